@@ -1,0 +1,24 @@
+// mereo/io/visualize.hpp: images people would rather see than read.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mereo/core/image.hpp"
+
+namespace mereo::io {
+
+/// Depth as a false-colour image (turbo colour map between the 1st and 99th percentile of the
+/// valid depth, near = red... far = blue); missing depth is black.
+ColorImage colorize_depth(const DepthImage& depth);
+/// Normals as colours: RGB = (n + 1) / 2 (x right red, y down green, towards the camera blue);
+/// missing normals are black.
+ColorImage colorize_normals(const NormalMap& normals);
+/// Labels as distinct colours (0 is black).
+ColorImage colorize_labels(const LabelImage& labels);
+/// Images of the same height side by side (a gap of `gap` black pixels between them).
+ColorImage hstack(const std::vector<ColorImage>& images, int gap = 4);
+/// Writes an RGB image as PNG (or any format OpenCV knows by the file's extension).
+void write_image(const std::string& path, const ColorImage& image);
+
+}  // namespace mereo::io

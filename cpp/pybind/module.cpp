@@ -1,0 +1,24 @@
+// mereo._mereo: the one PYBIND11_MODULE; each module binds itself in its own file.
+#include <pybind11/pybind11.h>
+
+#include "mereo/core/error.hpp"
+
+namespace py = pybind11;
+
+void bind_core(py::module_& m);
+void bind_io(py::module_& m);
+void bind_extension(py::module_& m);
+void bind_synthetic(py::module_& m);
+
+PYBIND11_MODULE(_mereo, m) {
+  m.doc() = "mereo's C++ core; import the names from the mereo package instead.";
+  m.attr("__version__") = MEREO_VERSION_TEXT;
+  py::register_exception<mereo::InputError>(m, "InputError", PyExc_ValueError);
+  bind_core(m);
+  auto io = m.def_submodule("io", "Frame sources and writers (the hardware layer).");
+  bind_io(io);
+  auto ext = m.def_submodule("extension", "Depth to XYZ, normals, support plane (the extension layer).");
+  bind_extension(ext);
+  auto syn = m.def_submodule("synthetic", "The built-in tabletop scene renderer with exact ground truth.");
+  bind_synthetic(syn);
+}

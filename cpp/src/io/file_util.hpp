@@ -1,0 +1,23 @@
+// Small file-system helpers shared by the readers (private to cpp/src/io).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "mereo/core/error.hpp"
+
+namespace mereo::io {
+
+/// Throws InputError unless `path` is an existing regular file.
+inline void require_file(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a file");
+}
+
+/// "scene/0003_depth.png" -> "0003_depth".
+inline std::string file_stem(const std::string& path) {
+  return std::filesystem::path(path).stem().string();
+}
+
+}  // namespace mereo::io

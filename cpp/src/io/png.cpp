@@ -1,0 +1,142 @@
+// Colour/depth image pairs through OpenCV's imgcodecs.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "file_util.hpp"
+#include "mereo/core/error.hpp"
+#include "mereo/io/io.hpp"
+
+namespace mereo::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+cv::Mat read_image(const std::string& path, int flags) {
+  require_file(path);
+  cv::Mat m;
+  try {
+    m = cv::imread(path, flags);
+  } catch (const cv::Exception&) {
+    m.release();
+  }
+  if (m.empty()) throw InputError(path + ": cannot decode the image (corrupt or not an image)");
+  return m;
+}
+
+}  // namespace
+
+Frame read_png_pair(const std::string& color_path, const std::string& depth_path,
+                    const Intrinsics& intrinsics, double depth_scale) {
+  if (!(depth_scale > 0)) throw InputError(depth_path + ": the depth scale must be positive");
+  const cv::Mat bgr = read_image(color_path, cv::IMREAD_COLOR);
+  const cv::Mat raw = read_image(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
+  if (bgr.size() != raw.size())
+    throw InputError(depth_path + ": depth is " + std::to_string(raw.cols) + "x" +
+                     std::to_string(raw.rows) + " but colour " + color_path + " is " +
+                     std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows));
+  Frame frame;
+  frame.source = depth_path;
+  frame.intrinsics = intrinsics;
+  frame.color = ColorImage(bgr.rows, bgr.cols);
+  cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, frame.color.data());
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  frame.depth = DepthImage(raw.rows, raw.cols, kNaN);
+  const float inv = float(1.0 / depth_scale);
+  for (int v = 0; v < raw.rows; ++v) {
+    float* d = frame.depth.ptr(v, 0);
+    for (int u = 0; u < raw.cols; ++u) {
+      float z;
+      switch (raw.depth()) {
+        case CV_16U: z = raw.at<std::uint16_t>(v, u) * inv; break;
+        case CV_8U: z = raw.at<std::uint8_t>(v, u) * inv; break;
+        case CV_32F: z = raw.at<float>(v, u); break;  // float depth is in metres already
+        default:
+          throw InputError(depth_path + ": unsupported depth image type (need 16-bit or float)");
+      }
+      if (z > 0.f && std::isfinite(z)) d[u] = z;
+    }
+  }
+  frame.validate();
+  return frame;
+}
+
+std::vector<std::string> write_png_pair(const std::string& dir, const std::string& name,
+                                        const Frame& frame, double depth_scale) {
+  frame.validate();
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir)) throw InputError(dir + ": cannot create the folder");
+  const std::string color_path = (fs::path(dir) / (name + "_rgb.png")).string();
+  const std::string depth_path = (fs::path(dir) / (name + "_depth.png")).string();
+  const int rows = frame.rows(), cols = frame.cols();
+  cv::Mat depth(rows, cols, CV_16UC1);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u) {
+      const float z = frame.depth(v, u);
+      double units = std::isfinite(z) && z > 0 ? std::round(z * depth_scale) : 0.0;
+      if (units > 65535)
+        throw InputError(depth_path + ": depth " + std::to_string(z) +
+                         " m does not fit 16 bits at depth scale " + std::to_string(depth_scale));
+      depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(units);
+    }
+  cv::Mat bgr(rows, cols, CV_8UC3, cv::Scalar(0, 0, 0));
+  if (!frame.color.empty()) {
+    const cv::Mat rgb(rows, cols, CV_8UC3, const_cast<std::uint8_t*>(frame.color.data()));
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  }
+  if (!cv::imwrite(color_path, bgr)) throw InputError(color_path + ": cannot write");
+  if (!cv::imwrite(depth_path, depth)) throw InputError(depth_path + ": cannot write");
+  nlohmann::json j = {{"fx", frame.intrinsics.fx}, {"fy", frame.intrinsics.fy},
+                      {"cx", frame.intrinsics.cx}, {"cy", frame.intrinsics.cy},
+                      {"width", cols}, {"height", rows}, {"depth_scale", depth_scale}};
+  std::ofstream((fs::path(dir) / "intrinsics.json").string()) << j.dump(2) << "\n";
+  return {color_path, depth_path};
+}
+
+Intrinsics read_intrinsics(const std::string& text_or_path, double* depth_scale) {
+  std::error_code ec;
+  if (!fs::is_regular_file(text_or_path, ec)) {
+    if (text_or_path.find(',') == std::string::npos)
+      throw InputError(text_or_path + ": no such intrinsics file (or give fx,fy,cx,cy)");
+    return Intrinsics::parse(text_or_path);
+  }
+  std::ifstream in(text_or_path);
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(text_or_path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  }
+  // Either {"fx":..} or {"K": [[fx,0,cx],[0,fy,cy],[0,0,1]]}.
+  auto number = [&](const char* key) -> double {
+    if (!j.contains(key)) throw InputError(text_or_path + ": missing field '" + key + "'");
+    if (!j[key].is_number()) throw InputError(text_or_path + ": field '" + key + "' is not a number");
+    return j[key].get<double>();
+  };
+  Intrinsics K;
+  if (!j.is_object()) throw InputError(text_or_path + ": expected a JSON object with fx, fy, cx, cy");
+  if (j.contains("K") && !j.contains("fx")) {
+    const auto& m = j["K"];
+    if (!m.is_array() || m.size() != 3)
+      throw InputError(text_or_path + ": field 'K' must be a 3x3 matrix");
+    try {
+      K = {m[0][0].get<double>(), m[1][1].get<double>(), m[0][2].get<double>(), m[1][2].get<double>()};
+    } catch (const nlohmann::json::exception&) {
+      throw InputError(text_or_path + ": field 'K' must be a 3x3 matrix of numbers");
+    }
+  } else {
+    K = {number("fx"), number("fy"), number("cx"), number("cy")};
+  }
+  if (!K.valid()) throw InputError(text_or_path + ": fx and fy must be positive");
+  if (depth_scale && j.contains("depth_scale")) *depth_scale = number("depth_scale");
+  return K;
+}
+
+}  // namespace mereo::io

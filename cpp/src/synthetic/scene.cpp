@@ -1,0 +1,523 @@
+// The synthetic tabletop scene: generation from a seed, the orbit camera, ground-truth JSON.
+//
+// World frame: z up, origin at the centre of the table top (the top surface is z = 0).
+// All objects stand on the table top. Shapes are described by mereo::synthetic::Shape:
+//  - a cylinder's `point` is on its axis at the middle of the part, `height` its full length;
+//  - a torus's arc is measured in its ring plane from `axis2` (angle 0) towards
+//    `axis x axis2` (angle +pi/2); the rendered part is arc_start <= angle <= arc_end
+//    (arc_end <= arc_start means the full ring). A mug handle's `axis2` points away from the
+//    body axis and its arc is the part of the ring's centre circle outside the body's outer
+//    radius; the renderer also hides every point of the tube inside the body cylinder.
+//    A distractor's arc is [0, pi]: the upper half ring standing on the table.
+#include "mereo/synthetic/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "mereo/core/error.hpp"
+#include "raycast.hpp"
+
+namespace mereo::synthetic {
+
+using detail::Rng;
+using detail::Vec3;
+
+Shape Shape::transformed(const Pose& T) const {
+  Shape s = *this;
+  s.point = T * point;
+  s.axis = (T.linear() * axis).normalized();
+  s.axis2 = (T.linear() * axis2).normalized();
+  return s;
+}
+
+const PartTruth* ObjectTruth::part(const std::string& role) const {
+  for (const auto& p : parts)
+    if (p.role == role) return &p;
+  return nullptr;
+}
+
+const ObjectTruth* GroundTruth::object(std::uint32_t id) const {
+  for (const auto& o : objects_truth)
+    if (o.id == id) return &o;
+  return nullptr;
+}
+
+Pose orbit_pose(const Eigen::Vector3d& look_at, double distance, double elevation_deg,
+                double azimuth_deg) {
+  constexpr double deg = 3.14159265358979323846 / 180.0;
+  const double el = elevation_deg * deg, az = azimuth_deg * deg;
+  const Vec3 pos = look_at + distance * Vec3(std::cos(el) * std::cos(az),
+                                             std::cos(el) * std::sin(az), std::sin(el));
+  const Vec3 z = (look_at - pos).normalized();  // forward
+  Vec3 x = z.cross(Vec3::UnitZ());              // right (horizontal: no roll)
+  if (x.norm() < 1e-9) x = Vec3::UnitX();       // looking straight down
+  x.normalize();
+  const Vec3 y = z.cross(x);  // down
+  Pose T = Pose::Identity();
+  T.linear().col(0) = x;
+  T.linear().col(1) = y;
+  T.linear().col(2) = z;
+  T.translation() = pos;
+  return T;
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Shape cylinder(double x, double y, double z0, double z1, double r, bool inward = false) {
+  Shape s;
+  s.cls = "cylinder";
+  s.point = Vec3(x, y, 0.5 * (z0 + z1));
+  s.axis = Vec3::UnitZ();
+  s.radius = r;
+  s.height = z1 - z0;
+  s.inward = inward;
+  return s;
+}
+
+Shape disc(double x, double y, double z, double r_out, double r_in = 0.0, bool down = false) {
+  Shape s;
+  s.cls = "disc";
+  s.point = Vec3(x, y, z);
+  s.axis = down ? Vec3(-Vec3::UnitZ()) : Vec3(Vec3::UnitZ());
+  s.radius = r_out;
+  s.minor_radius = r_in;
+  return s;
+}
+
+Shape box(const Vec3& centre, double yaw, const Vec3& size) {
+  Shape s;
+  s.cls = "box";
+  s.point = centre;
+  s.axis = Vec3::UnitZ();
+  s.axis2 = Vec3(std::cos(yaw), std::sin(yaw), 0.0);
+  s.size = size;
+  return s;
+}
+
+Shape plane(const Vec3& point, const Vec3& normal) {
+  Shape s;
+  s.cls = "plane";
+  s.point = point;
+  s.axis = normal.normalized();
+  return s;
+}
+
+Eigen::Vector3f random_color(Rng& rng) {
+  // a saturated-ish random colour: random hue, saturation 0.35-0.9, value 0.35-0.95
+  const double h = rng.uniform(0.0, 6.0), s = rng.uniform(0.35, 0.9), v = rng.uniform(0.35, 0.95);
+  const int i = std::min(5, int(h));
+  const double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  double r = v, g = t, b = p;
+  switch (i) {
+    case 0: r = v; g = t; b = p; break;
+    case 1: r = q; g = v; b = p; break;
+    case 2: r = p; g = v; b = t; break;
+    case 3: r = p; g = q; b = v; break;
+    case 4: r = t; g = p; b = v; break;
+    default: r = v; g = p; b = q; break;
+  }
+  return Eigen::Vector3f(float(r), float(g), float(b));
+}
+
+struct Footprint {
+  double x, y, r;
+  int object;  // index into Scene::objects
+};
+
+/// An object on the table before placement: its footprint radius and height, and a builder
+/// that makes it at (x, y).
+struct Candidate {
+  std::string model;
+  double footprint = 0.05;
+  double height = 0.1;
+};
+
+struct Placer {
+  double x_half = 0.3, y_half = 0.2;  // current region
+  double x_max = 0.45, y_max = 0.3;   // fallback region
+  double gap = 0.02;
+  Vec3 look_at;
+  double cam_radius = 1.0, cam_height = 1.0;  // the orbit's horizontal radius and height
+  std::vector<Footprint> taken;
+
+  bool free(double x, double y, double r, double height, int ignore = -1) const {
+    for (const auto& f : taken) {
+      if (f.object == ignore) continue;
+      if (std::hypot(x - f.x, y - f.y) < r + f.r + gap) return false;
+    }
+    // keep away from the camera's orbit (the camera is never inside or just above an object)
+    const double hd = std::hypot(x - look_at.x(), y - look_at.y());
+    if (hd + r > cam_radius - 0.1 && height > cam_height - 0.1) return false;
+    return true;
+  }
+
+  bool place(Rng& rng, double r, double height, double& x, double& y) const {
+    for (int attempt = 0; attempt < 240; ++attempt) {
+      const double xh = attempt < 120 ? x_half : x_max;
+      const double yh = attempt < 120 ? y_half : y_max;
+      if (r > xh || r > yh) continue;
+      x = rng.uniform(-xh + r, xh - r);
+      y = rng.uniform(-yh + r, yh - r);
+      if (free(x, y, r, height)) return true;
+    }
+    return false;
+  }
+};
+
+enum class Model { Mug, Jar, Can, Bottle, Plate, Bowl, Box };
+
+Model random_model(Rng& rng) {
+  const double u = rng.uniform();
+  if (u < 0.20) return Model::Mug;
+  if (u < 0.36) return Model::Jar;
+  if (u < 0.46) return Model::Can;
+  if (u < 0.61) return Model::Bottle;
+  if (u < 0.71) return Model::Plate;
+  if (u < 0.81) return Model::Bowl;
+  return Model::Box;
+}
+
+/// Adds one object of `model` on the table; false if no place was found.
+bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_mug) {
+  SceneObject obj;
+  obj.color = random_color(rng);
+  const int index = int(scene.objects.size());
+  double x = 0, y = 0;
+  switch (model) {
+    case Model::Mug: {
+      const double R = rng.uniform(0.035, 0.05), h = rng.uniform(0.08, 0.11);
+      const double wall = rng.uniform(0.003, 0.005), tb = rng.uniform(0.006, 0.012);
+      const double minor = rng.uniform(0.004, 0.008);
+      const double a = rng.uniform(0.02, std::min(0.03, 0.5 * h - minor - 0.004));
+      const double kmax = std::min(0.8, 1.0 - (minor + 0.002) / a);
+      const double k = rng.uniform(0.5, kmax);
+      const double d = R + k * a;  // torus centre to body axis
+      const double room = std::max(0.0, std::min(0.005, 0.5 * h - 0.003 - a - minor));
+      const double zc = 0.5 * h + rng.uniform(-room, room);
+      const double fr = d + a + minor;
+      if (!placer.place(rng, fr, h, x, y)) return false;
+      double phi = rng.uniform(0.0, 2 * kPi);
+      if (first_mug) {
+        // the first mug shows its handle from the side to the first camera
+        const double az = scene.camera_azimuth_deg * kPi / 180.0;
+        const Vec3 cam = scene.look_at + Vec3(std::cos(az), std::sin(az), 0.0);
+        const double to_cam = std::atan2(cam.y() - y, cam.x() - x);
+        const double side = rng.chance(0.5) ? 1.0 : -1.0;
+        phi = to_cam + side * rng.uniform(50.0, 130.0) * kPi / 180.0;
+      }
+      const Vec3 u(std::cos(phi), std::sin(phi), 0.0);
+      obj.model = "mug";
+      obj.parts.emplace_back("body", cylinder(x, y, 0.0, h, R));
+      obj.parts.emplace_back("inside", cylinder(x, y, tb, h, R - wall, true));
+      obj.parts.emplace_back("rim", disc(x, y, h, R, R - wall));
+      obj.parts.emplace_back("bottom", disc(x, y, tb, R - wall));
+      Shape t;
+      t.cls = "torus";
+      t.point = Vec3(x, y, zc) + d * u;
+      t.axis = u.cross(Vec3::UnitZ()).normalized();
+      t.axis2 = u;
+      t.radius = a;
+      t.minor_radius = minor;
+      const double half = std::acos(std::clamp(-k, -1.0, 1.0));
+      t.arc_start = -half;
+      t.arc_end = half;
+      obj.parts.emplace_back("handle", t);
+      placer.taken.push_back({x, y, fr, index});
+      break;
+    }
+    case Model::Jar:
+    case Model::Can: {
+      const bool jar = model == Model::Jar;
+      const double R = jar ? rng.uniform(0.035, 0.06) : rng.uniform(0.032, 0.035);
+      const double h = jar ? rng.uniform(0.08, 0.16) : rng.uniform(0.10, 0.12);
+      if (!placer.place(rng, R, h, x, y)) return false;
+      obj.model = jar ? "jar" : "can";
+      obj.parts.emplace_back("body", cylinder(x, y, 0.0, h, R));
+      obj.parts.emplace_back("lid", disc(x, y, h, R));
+      obj.parts.emplace_back("base", disc(x, y, 0.0, R, 0.0, true));
+      placer.taken.push_back({x, y, R, index});
+      break;
+    }
+    case Model::Bottle: {
+      const double rb = rng.uniform(0.03, 0.045), hb = rng.uniform(0.15, 0.22);
+      const double rn = rng.uniform(0.01, 0.015), hn = rng.uniform(0.04, 0.06);
+      if (!placer.place(rng, rb, hb + hn, x, y)) return false;
+      obj.model = "bottle";
+      obj.parts.emplace_back("body", cylinder(x, y, 0.0, hb, rb));
+      obj.parts.emplace_back("shoulder", disc(x, y, hb, rb, rn));
+      obj.parts.emplace_back("neck", cylinder(x, y, hb, hb + hn, rn));
+      obj.parts.emplace_back("cap", disc(x, y, hb + hn, rn));
+      placer.taken.push_back({x, y, rb, index});
+      break;
+    }
+    case Model::Plate: {
+      const double R = rng.uniform(0.09, 0.13), h = rng.uniform(0.015, 0.025);
+      if (!placer.place(rng, R, h, x, y)) return false;
+      obj.model = "plate";
+      obj.parts.emplace_back("body", cylinder(x, y, 0.0, h, R));
+      obj.parts.emplace_back("top", disc(x, y, h, R));
+      placer.taken.push_back({x, y, R, index});
+      break;
+    }
+    case Model::Bowl: {
+      const double Ro = rng.uniform(0.06, 0.10), th = rng.uniform(0.004, 0.006);
+      const double Ri = Ro - th;
+      const double hmin = -(Ri + 0.002);  // flat foot on the table, 2 mm bottom
+      const double hmax = -rng.uniform(0.0, 0.25) * Ro;
+      const double zc = -hmin;
+      if (!placer.place(rng, Ro, zc + hmax, x, y)) return false;
+      obj.model = "bowl";
+      Shape outer;
+      outer.cls = "sphere";
+      outer.point = Vec3(x, y, zc);
+      outer.axis = Vec3::UnitZ();
+      outer.radius = Ro;
+      outer.height_min = hmin;
+      outer.height_max = hmax;
+      Shape inner = outer;
+      inner.radius = Ri;
+      inner.height_min = -Ri;
+      inner.inward = true;
+      obj.parts.emplace_back("body", outer);
+      obj.parts.emplace_back("inside", inner);
+      obj.parts.emplace_back("rim", disc(x, y, zc + hmax, std::sqrt(Ro * Ro - hmax * hmax),
+                                         std::sqrt(Ri * Ri - hmax * hmax)));
+      placer.taken.push_back({x, y, Ro, index});
+      break;
+    }
+    case Model::Box: {
+      const Vec3 size(rng.uniform(0.05, 0.2), rng.uniform(0.05, 0.2), rng.uniform(0.05, 0.2));
+      const double yaw = rng.uniform(0.0, kPi);
+      const double fr = 0.5 * std::hypot(size.x(), size.y());
+      if (!placer.place(rng, fr, size.z(), x, y)) return false;
+      obj.model = "box";
+      obj.parts.emplace_back("box", box(Vec3(x, y, 0.5 * size.z()), yaw, size));
+      placer.taken.push_back({x, y, fr, index});
+      break;
+    }
+  }
+  scene.objects.push_back(std::move(obj));
+  return true;
+}
+
+/// A handle-like half torus standing on the table beside jar `jar_index`; false if no room.
+bool add_distractor(Scene& scene, Placer& placer, Rng& rng, int jar_index) {
+  const Shape& body = scene.objects[jar_index].parts.front().second;
+  const double Rj = body.radius;
+  const double jx = body.point.x(), jy = body.point.y();
+  const double a = rng.uniform(0.02, 0.03), minor = rng.uniform(0.004, 0.008);
+  for (int attempt = 0; attempt < 40; ++attempt) {
+    const double gap = rng.uniform(0.01, 0.025);
+    const double phi = rng.uniform(0.0, 2 * kPi);
+    const Vec3 u(std::cos(phi), std::sin(phi), 0.0);
+    const double D = Rj + gap + minor + a;
+    const double x = jx + D * u.x(), y = jy + D * u.y();
+    const double fr = a + minor;
+    if (std::abs(x) > placer.x_max - fr || std::abs(y) > placer.y_max - fr) continue;
+    if (!placer.free(x, y, fr, fr, jar_index)) continue;
+    SceneObject obj;
+    obj.model = "distractor";
+    obj.color = random_color(rng);
+    Shape t;
+    t.cls = "torus";
+    t.point = Vec3(x, y, 0.0);
+    t.axis = u.cross(Vec3::UnitZ()).normalized();
+    t.axis2 = u;  // angle 0 points away from the jar, angle pi towards it, pi/2 is up
+    t.radius = a;
+    t.minor_radius = minor;
+    t.arc_start = 0.0;
+    t.arc_end = kPi;
+    obj.parts.emplace_back("handle", t);
+    placer.taken.push_back({x, y, fr, int(scene.objects.size())});
+    scene.objects.push_back(std::move(obj));
+    return true;
+  }
+  return false;
+}
+
+void check_options(const SceneOptions& o) {
+  if (o.width <= 0 || o.height <= 0)
+    throw InputError("synthetic: image size must be positive (width " + std::to_string(o.width) +
+                     ", height " + std::to_string(o.height) + ")");
+  if (!o.intrinsics.valid()) throw InputError("synthetic: intrinsics fx, fy must be positive");
+  if (o.min_objects < 0 || o.max_objects < o.min_objects)
+    throw InputError("synthetic: need 0 <= min_objects <= max_objects (got " +
+                     std::to_string(o.min_objects) + ", " + std::to_string(o.max_objects) + ")");
+  if (!(o.min_distance > 0) || o.max_distance < o.min_distance)
+    throw InputError("synthetic: need 0 < min_distance <= max_distance");
+  if (o.min_elevation_deg < 0 || o.max_elevation_deg > 89.0 ||
+      o.max_elevation_deg < o.min_elevation_deg)
+    throw InputError("synthetic: need 0 <= min_elevation_deg <= max_elevation_deg <= 89");
+}
+
+}  // namespace
+
+Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
+  check_options(options);
+  Rng rng(seed);
+  Scene scene;
+  scene.seed = seed;
+
+  // table
+  const double L = rng.uniform(1.0, 1.6), W = rng.uniform(0.7, 1.0), H = rng.uniform(0.7, 0.8);
+  const double top = rng.uniform(0.025, 0.04), leg = rng.uniform(0.04, 0.06);
+  const double inset = rng.uniform(0.03, 0.08);
+
+  // camera of the first frame
+  scene.look_at = Vec3(rng.uniform(-0.08, 0.08), rng.uniform(-0.05, 0.05), 0.0);
+  scene.camera_distance = rng.uniform(options.min_distance, options.max_distance);
+  scene.camera_elevation_deg = rng.uniform(options.min_elevation_deg, options.max_elevation_deg);
+  scene.camera_azimuth_deg = rng.uniform(0.0, 360.0);
+
+  // floor, wall (behind the table, opposite the first camera, beyond any orbit), table
+  const double az = scene.camera_azimuth_deg * kPi / 180.0;
+  const Vec3 away(-std::cos(az), -std::sin(az), 0.0);
+  const double wall_distance =
+      std::max(rng.uniform(2.5, 3.0), scene.camera_distance + 1.0);
+  {
+    SceneObject floor;
+    floor.model = "floor";
+    const double g = rng.uniform(0.3, 0.5);
+    floor.color = Eigen::Vector3f(float(g), float(g * rng.uniform(0.9, 1.05)),
+                                  float(g * rng.uniform(0.85, 1.0)));
+    floor.parts.emplace_back("plane", plane(Vec3(0, 0, -H), Vec3::UnitZ()));
+    scene.objects.push_back(std::move(floor));
+
+    SceneObject wall;
+    wall.model = "wall";
+    const double w = rng.uniform(0.7, 0.9);
+    wall.color = Eigen::Vector3f(float(w), float(w * rng.uniform(0.93, 1.0)),
+                                 float(w * rng.uniform(0.85, 1.0)));
+    wall.parts.emplace_back("plane", plane(wall_distance * away - Vec3(0, 0, H), -away));
+    scene.objects.push_back(std::move(wall));
+
+    SceneObject table;
+    table.model = "table";
+    table.color = Eigen::Vector3f(float(rng.uniform(0.55, 0.75)), float(rng.uniform(0.35, 0.5)),
+                                  float(rng.uniform(0.18, 0.3)));
+    table.parts.emplace_back("top", box(Vec3(0, 0, -0.5 * top), 0.0, Vec3(L, W, top)));
+    const double lx = 0.5 * L - inset - 0.5 * leg, ly = 0.5 * W - inset - 0.5 * leg;
+    const double sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
+    for (int i = 0; i < 4; ++i)
+      table.parts.emplace_back("leg" + std::to_string(i + 1),
+                               box(Vec3(sx[i] * lx, sy[i] * ly, -0.5 * (H + top)), 0.0,
+                                   Vec3(leg, leg, H - top)));
+    scene.objects.push_back(std::move(table));
+  }
+
+  // objects on the table top
+  Placer placer;
+  placer.x_max = 0.5 * L - 0.03;
+  placer.y_max = 0.5 * W - 0.03;
+  placer.x_max = std::min(placer.x_max, 0.45);
+  placer.y_max = std::min(placer.y_max, 0.32);
+  placer.x_half = std::min(placer.x_max, 0.30);
+  placer.y_half = std::min(placer.y_max, 0.22);
+  placer.look_at = scene.look_at;
+  const double el = scene.camera_elevation_deg * kPi / 180.0;
+  placer.cam_radius = scene.camera_distance * std::cos(el);
+  placer.cam_height = scene.camera_distance * std::sin(el);
+
+  const int n = rng.integer(options.min_objects, options.max_objects);
+  bool have_mug = false;
+  for (int i = 0; i < n; ++i) {
+    Model m;
+    if (i == 0) {
+      m = rng.chance(0.8) ? Model::Mug : random_model(rng);
+    } else if (i == 1) {
+      const double u = rng.uniform();
+      m = u < 0.4 ? Model::Jar : u < 0.6 ? Model::Can : random_model(rng);
+    } else {
+      m = random_model(rng);
+    }
+    // a few tries with new sizes (and finally a smaller kind) when the table is crowded
+    bool ok = false;
+    for (int tries = 0; tries < 3 && !ok; ++tries)
+      ok = add_object(scene, placer, rng, tries < 2 ? m : Model::Can,
+                      m == Model::Mug && !have_mug && tries < 2);
+    if (ok && scene.objects.back().model == "mug") have_mug = true;
+  }
+
+  if (options.distractors) {
+    const std::size_t count = scene.objects.size();
+    bool first = true;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (scene.objects[i].model != "jar") continue;
+      if (first || rng.chance(0.5)) add_distractor(scene, placer, rng, int(i));
+      first = false;
+    }
+  }
+  return scene;
+}
+
+// ---- JSON ---------------------------------------------------------------------------------
+
+namespace {
+
+nlohmann::json vec_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json shape_json(const Shape& s) {
+  nlohmann::json j;
+  if (s.cls == "cylinder") {
+    j = {{"point", vec_json(s.point)}, {"axis", vec_json(s.axis)}, {"radius", s.radius},
+         {"height", s.height}, {"inward", s.inward}};
+  } else if (s.cls == "torus") {
+    j = {{"center", vec_json(s.point)}, {"normal", vec_json(s.axis)},
+         {"major_radius", s.radius}, {"minor_radius", s.minor_radius},
+         {"arc_reference", vec_json(s.axis2)}, {"arc_start", s.arc_start},
+         {"arc_end", s.arc_end}};
+  } else if (s.cls == "disc") {
+    j = {{"center", vec_json(s.point)}, {"normal", vec_json(s.axis)}, {"radius", s.radius},
+         {"inner_radius", s.minor_radius}};
+  } else if (s.cls == "sphere") {
+    j = {{"center", vec_json(s.point)}, {"radius", s.radius}, {"axis", vec_json(s.axis)},
+         {"height_min", s.height_min}, {"height_max", s.height_max}, {"inward", s.inward}};
+  } else if (s.cls == "box") {
+    j = {{"center", vec_json(s.point)}, {"axis", vec_json(s.axis)},
+         {"axis2", vec_json(s.axis2)}, {"size", vec_json(s.size)}};
+  } else if (s.cls == "plane") {
+    j = {{"point", vec_json(s.point)}, {"normal", vec_json(s.axis)}, {"d", -s.axis.dot(s.point)}};
+  }
+  return j;
+}
+
+}  // namespace
+
+std::string truth_to_json(const SyntheticFrame& f) {
+  using nlohmann::json;
+  json j;
+  j["frame"] = f.frame.id;
+  j["source"] = f.frame.source;
+  const Intrinsics& K = f.frame.intrinsics;
+  j["intrinsics"] = {{"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy},
+                     {"width", f.frame.depth.cols()}, {"height", f.frame.depth.rows()}};
+  const Eigen::Matrix4d M = f.truth.camera_pose.matrix();
+  json pose = json::array();
+  for (int r = 0; r < 4; ++r) pose.push_back({M(r, 0), M(r, 1), M(r, 2), M(r, 3)});
+  j["camera_pose"] = pose;
+  json objects = json::array();
+  for (const auto& o : f.truth.objects_truth) {
+    json jo = {{"id", o.id}, {"model", o.model}, {"visible_pixels", o.visible_pixels}};
+    json parts = json::array();
+    for (const auto& p : o.parts) {
+      parts.push_back({{"role", p.role},
+                       {"label", p.label},
+                       {"visible_pixels", p.visible_pixels},
+                       {"class", p.world.cls},
+                       {"camera", shape_json(p.camera)},
+                       {"world", shape_json(p.world)}});
+    }
+    jo["parts"] = parts;
+    objects.push_back(jo);
+  }
+  j["objects"] = objects;
+  return j.dump();
+}
+
+}  // namespace mereo::synthetic

@@ -10,6 +10,7 @@ PACKAGES=(
   build-essential pkg-config python3-venv python3-dev
   libeigen3-dev libtbb-dev libopencv-dev libopencv-contrib-dev libpcl-dev
   libgtest-dev libbenchmark-dev nlohmann-json3-dev libyaml-cpp-dev graphviz
+  libcgal-dev toulbar2
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -1,0 +1,16 @@
+#include "nodes/registry.hpp"
+
+namespace mereo::nodes {
+
+std::vector<graph::NodeSpec> builtin_node_specs() {
+  return {
+      frame_source_node(),
+      back_project_node(),
+      // diagnostics: engine tests and benchmarks
+      identity_node(),
+      checksum_node(),
+      fail_on_frame_node(),
+  };
+}
+
+}  // namespace mereo::nodes

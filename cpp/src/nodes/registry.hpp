@@ -1,0 +1,20 @@
+// The explicit list of built-in node kinds (no static registration: see STYLE.md).
+#pragma once
+
+#include <vector>
+
+#include "mereo/graph/node.hpp"
+
+namespace mereo::nodes {
+
+// One function per node file in cpp/src/nodes/; add yours here and in registry.cpp.
+graph::NodeSpec frame_source_node();
+graph::NodeSpec back_project_node();
+graph::NodeSpec identity_node();
+graph::NodeSpec checksum_node();
+graph::NodeSpec fail_on_frame_node();
+
+/// Every built-in kind, in the order of the list in registry.cpp.
+std::vector<graph::NodeSpec> builtin_node_specs();
+
+}  // namespace mereo::nodes

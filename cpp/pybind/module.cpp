@@ -9,6 +9,7 @@ void bind_core(py::module_& m);
 void bind_io(py::module_& m);
 void bind_extension(py::module_& m);
 void bind_synthetic(py::module_& m);
+void bind_graph(py::module_& m);
 
 PYBIND11_MODULE(_mereo, m) {
   m.doc() = "mereo's C++ core; import the names from the mereo package instead.";
@@ -21,4 +22,5 @@ PYBIND11_MODULE(_mereo, m) {
   bind_extension(ext);
   auto syn = m.def_submodule("synthetic", "The built-in tabletop scene renderer with exact ground truth.");
   bind_synthetic(syn);
+  bind_graph(m);  // Graph, FrameQueue, errors at the top level; node kinds in mereo._mereo.nodes
 }

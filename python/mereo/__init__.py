@@ -7,9 +7,23 @@ The numeric work happens in C++ (``mereo._mereo``); this package names it::
     cloud = mereo.extension.back_project(frame)   # (H, W, 3) float32, NaN where missing
 """
 from . import _mereo
-from ._mereo import Frame, InputError, Intrinsics
+from ._mereo import Frame, InputError, Intrinsics, nodes
 from . import extension, io, synthetic
+from .graph import FrameQueue, Graph, GraphError, NodeError
 
 __version__ = _mereo.__version__
 
-__all__ = ["Frame", "InputError", "Intrinsics", "extension", "io", "synthetic", "__version__"]
+__all__ = [
+    "Frame",
+    "FrameQueue",
+    "Graph",
+    "GraphError",
+    "InputError",
+    "Intrinsics",
+    "NodeError",
+    "extension",
+    "io",
+    "nodes",
+    "synthetic",
+    "__version__",
+]

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <tbb/task_arena.h>
 
 #include "mereo/synthetic/scene.hpp"
 
@@ -60,13 +61,6 @@ SceneOptions clean_options() {
   SceneOptions o;
   o.noise = false;
   return o;
-}
-
-std::size_t count_model_pixels(const GroundTruth& gt, const std::string& model) {
-  std::size_t n = 0;
-  for (const auto& o : gt.objects_truth)
-    if (o.model == model) n += o.visible_pixels;
-  return n;
 }
 
 }  // namespace
@@ -211,8 +205,14 @@ TEST(SyntheticRender, MugBodyAndHandleLieOnAnalyticSurfaces) {
       EXPECT_LT(worst_body_n, 1.0) << "seed " << seed << " mug " << o.id;
       EXPECT_LT(worst_handle_n, 1.0) << "seed " << seed << " mug " << o.id;
       // a mug that is visible at all shows plenty of its body
-      if (o.visible_pixels > 300) EXPECT_GT(n_body, 100u) << "seed " << seed << " mug " << o.id;
+      if (o.visible_pixels > 300) {
+        EXPECT_GT(n_body, 100u) << "seed " << seed << " mug " << o.id;
+      }
       if (n_handle > 0) handle_seen = true;
+      std::cout << "[ info     ] seed " << seed << " mug " << o.id << ": " << n_body
+                << " body pixels (max |d| " << worst_body * 1e3 << " mm, normal "
+                << worst_body_n << " deg), " << n_handle << " handle pixels (max |d| "
+                << worst_handle * 1e3 << " mm, normal " << worst_handle_n << " deg)\n";
     }
     // the first object on the table (index 3: after floor, wall, table) is usually a mug,
     // placed near the centre: it must be in view
@@ -362,6 +362,20 @@ TEST(SyntheticRender, DeterministicWithNoise) {
   EXPECT_TRUE(a.frame.pose->isApprox(a.truth.camera_pose));
   EXPECT_TRUE(a.frame.cloud.empty());
   EXPECT_TRUE(a.frame.labels.empty());
+}
+
+TEST(SyntheticRender, SameResultOnOneThread) {
+  const SyntheticFrame a = mereo::synthetic::render(21);
+  SyntheticFrame b;
+  tbb::task_arena one(1);
+  one.execute([&] { b = mereo::synthetic::render(21); });
+  EXPECT_EQ(std::memcmp(a.frame.depth.data(), b.frame.depth.data(),
+                        a.frame.depth.size() * sizeof(float)),
+            0);
+  EXPECT_EQ(std::memcmp(a.truth.normals.data(), b.truth.normals.data(),
+                        a.truth.normals.size() * sizeof(float)),
+            0);
+  EXPECT_EQ(std::memcmp(a.frame.color.data(), b.frame.color.data(), a.frame.color.size()), 0);
 }
 
 TEST(SyntheticRender, NoiseIsKinectLike) {

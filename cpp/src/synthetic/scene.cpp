@@ -144,7 +144,14 @@ struct Placer {
   double gap = 0.02;
   Vec3 look_at;
   double cam_radius = 1.0, cam_height = 1.0;  // the orbit's horizontal radius and height
+  Vec3 camera = Vec3::Zero();  // the first frame's camera position
   std::vector<Footprint> taken;
+  // objects that later objects must not hide from the first camera (the first mug): a
+  // footprint and a height
+  struct Protected {
+    double x, y, r, height;
+  };
+  std::vector<Protected> keep_visible;
 
   bool free(double x, double y, double r, double height, int ignore = -1) const {
     for (const auto& f : taken) {
@@ -154,6 +161,16 @@ struct Placer {
     // keep away from the camera's orbit (the camera is never inside or just above an object)
     const double hd = std::hypot(x - look_at.x(), y - look_at.y());
     if (hd + r > cam_radius - 0.1 && height > cam_height - 0.1) return false;
+    // do not hide a protected object's mid height from the first camera
+    for (const auto& p : keep_visible) {
+      const double sx = camera.x() - p.x, sy = camera.y() - p.y;
+      const double len2 = sx * sx + sy * sy;
+      if (len2 <= 0) continue;
+      const double s = std::clamp(((x - p.x) * sx + (y - p.y) * sy) / len2, 0.0, 1.0);
+      const double dist = std::hypot(x - (p.x + s * sx), y - (p.y + s * sy));
+      const double sight = 0.5 * p.height + s * (camera.z() - 0.5 * p.height);
+      if (dist < r + p.r && height > sight) return false;
+    }
     return true;
   }
 
@@ -229,6 +246,7 @@ bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_
       t.arc_end = half;
       obj.parts.emplace_back("handle", t);
       placer.taken.push_back({x, y, fr, index});
+      if (first_mug) placer.keep_visible.push_back({x, y, fr, h});
       break;
     }
     case Model::Jar:
@@ -423,6 +441,9 @@ Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
   const double el = scene.camera_elevation_deg * kPi / 180.0;
   placer.cam_radius = scene.camera_distance * std::cos(el);
   placer.cam_height = scene.camera_distance * std::sin(el);
+  placer.camera = orbit_pose(scene.look_at, scene.camera_distance, scene.camera_elevation_deg,
+                             scene.camera_azimuth_deg)
+                      .translation();
 
   const int n = rng.integer(options.min_objects, options.max_objects);
   bool have_mug = false;

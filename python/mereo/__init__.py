@@ -8,7 +8,7 @@ The numeric work happens in C++ (``mereo._mereo``); this package names it::
 """
 from . import _mereo
 from ._mereo import Frame, InputError, Intrinsics, nodes
-from . import extension, io, synthetic
+from . import extension, io, preview, synthetic
 from .graph import FrameQueue, Graph, GraphError, NodeError
 
 __version__ = _mereo.__version__
@@ -24,6 +24,7 @@ __all__ = [
     "extension",
     "io",
     "nodes",
+    "preview",
     "synthetic",
     "__version__",
 ]

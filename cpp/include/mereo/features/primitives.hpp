@@ -1,0 +1,126 @@
+// mereo/features/primitives.hpp: RANSAC detection of planes, cylinders, tori and spheres in an
+// organized frame (the feature layer).
+//
+// The method follows Schnabel, Wahl and Klein, "Efficient RANSAC for Point-Cloud Shape
+// Detection", Computer Graphics Forum 26(2), 2007, adapted to organized frames:
+//  - minimal sets that use the normals: plane 1 point, sphere 2, cylinder 2, torus 4
+//    (the tube radius is a root of the cubic that makes the four tube centres coplanar);
+//  - sampling localized in image neighbourhoods (the organized frame's stand-in for the
+//    paper's octree cells): a seed pixel, the others within a window whose metric size is
+//    options.sample_radius at the seed's depth;
+//  - scoring by point distance (epsilon) and normal deviation (alpha) over the connected
+//    component of compatible pixels that contains the seed (the paper's largest connected
+//    component, computed by a flood fill in the image on a grid of step score_step);
+//  - the best candidates of an iteration that do not overlap a better one are refined by
+//    least squares (Levenberg-Marquardt on the geometric distance), their full-resolution
+//    component is recomputed, their pixels are removed, and the loop repeats until an
+//    iteration finds nothing worth keeping.
+// Candidates are drawn in parallel (oneTBB) from per-task generators seeded with
+// (options.seed, iteration, task), so the result depends on the seed only, never on the
+// number of threads.
+//
+// Model-driven search (the top-down rule of the method): find_primitive() looks for one class
+// within a SearchRegion (pixel mask, ball near another segment, radius range) with
+// thresholds suited to small parts, e.g. a mug's handle (a torus of tube radius 4-8 mm)
+// next to its body.
+//
+// Units: metres, camera frame (x right, y down, z forward); angles in degrees in options.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mereo/core/image.hpp"
+#include "mereo/core/segment.hpp"
+
+namespace mereo::features {
+
+/// Options of detect_primitives / find_primitive. Defaults suit a Kinect-type VGA frame of a
+/// table top at 0.5-2 m.
+struct DetectOptions {
+  std::uint64_t seed = 0;            ///< the only source of randomness
+  /// Which classes to look for (Plane, Cylinder, Torus, Sphere; others are ignored).
+  std::vector<PrimitiveClass> classes{PrimitiveClass::Plane, PrimitiveClass::Cylinder,
+                                      PrimitiveClass::Torus, PrimitiveClass::Sphere};
+  double epsilon = 0.006;            ///< max point-to-surface distance of an inlier, metres,
+                                     ///< at 1 m; grows with depth like Kinect noise (see
+                                     ///< epsilon_growth)
+  double epsilon_growth = 0.5;       ///< epsilon(z) = epsilon * (1 + growth * (z^2 - 1)), z>=0.5
+  double normal_deviation_deg = 25;  ///< max angle between the point's and the surface's normal
+  int min_support = 250;             ///< min inlier pixels of a plane, cylinder or sphere
+  int min_support_torus = 80;        ///< min inlier pixels of a torus
+  double sample_radius = 0.05;       ///< metric radius of the sampling neighbourhood, metres
+  int score_step = 2;                ///< grid step (pixels) of candidate scoring
+  int candidates_per_iteration = 384;///< seeds drawn per iteration (each gives one candidate
+                                     ///< per class)
+  int max_iterations = 60;           ///< upper bound on detect-refine-remove rounds
+  int max_primitives = 64;
+  double min_radius = 0.01;          ///< cylinder and sphere radius range, metres
+  double max_radius = 0.35;
+  double min_minor_radius = 0.003;   ///< torus tube radius range, metres
+  double max_minor_radius = 0.02;
+  double max_major_radius = 0.08;    ///< torus ring radius upper bound, metres
+  /// After the bottom-up pass, look for a torus (handle) next to every cylinder found
+  /// (find_primitive with a ball around the cylinder); only when Torus is in `classes`.
+  bool handles_near_cylinders = true;
+  /// Optional region of interest: pixels with a non-zero value are used (same size as the
+  /// cloud); empty = all pixels.
+  Image<std::uint8_t, 1> roi;
+  /// Focal length in pixels for the sampling window; 0 = fitted to the cloud.
+  double focal_px = 0.0;
+};
+
+/// Where find_primitive looks. All given constraints apply together.
+struct SearchRegion {
+  /// Pixels with a non-zero value may be inliers (same size as the cloud); empty = all.
+  Image<std::uint8_t, 1> mask;
+  /// A ball: points within `ball_radius` of `ball_center` (metres, camera frame); radius 0 =
+  /// no ball.
+  Eigen::Vector3d ball_center = Eigen::Vector3d::Zero();
+  double ball_radius = 0.0;
+  /// Radius range of the wanted primitive (cylinder/sphere radius, torus major radius);
+  /// 0 = the options' range.
+  double min_radius = 0.0;
+  double max_radius = 0.0;
+  /// Torus tube radius range; 0 = the options' range.
+  double min_minor_radius = 0.0;
+  double max_minor_radius = 0.0;
+  /// Pixels already taken (e.g. the inliers of other segments) are excluded; these segments'
+  /// pixels are removed from the search.
+  std::vector<const Segment*> exclude;
+};
+
+/// A ball region around `segment`: its centre point with radius extent + margin (a handle
+/// next to a body: the body's radius and half height plus `margin` metres).
+SearchRegion region_near(const Segment& segment, double margin = 0.06);
+
+/// Finds planes, cylinders, tori and spheres in an organized cloud with per-pixel normals
+/// (unit, towards the camera, NaN where undefined), largest first. Each segment carries its
+/// class, parameters (see Segment), inlier pixels, visible extent (cylinder height), RMS
+/// residual, and the mean colour and hue of its pixels when `color` is given.
+/// Throws InputError when the images disagree in size or an option is out of range.
+std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& normals,
+                                       const DetectOptions& options = {},
+                                       const ColorImage* color = nullptr);
+
+/// Model-driven search: the best primitives of class `cls` inside `region` (at most
+/// `max_count`, best first; empty when none has the support). Uses small-part thresholds
+/// (the options' min_support_torus for tori, min_support / 4 otherwise) and samples only
+/// inside the region.
+std::vector<Segment> find_primitive(const Cloud& cloud, const NormalMap& normals,
+                                    PrimitiveClass cls, const SearchRegion& region,
+                                    const DetectOptions& options = {},
+                                    const ColorImage* color = nullptr, int max_count = 1);
+
+/// Distance (metres, >= 0) of point `x` to the surface of segment `s` (plane, cylinder,
+/// torus or sphere; unbounded surfaces).
+double surface_distance(const Segment& s, const Eigen::Vector3d& x);
+
+/// Least-squares refit of a segment's parameters to points (Levenberg-Marquardt on the
+/// geometric distance, starting from `s`); returns the refined segment (pixels unchanged).
+Segment refit(const Segment& s, const std::vector<Eigen::Vector3d>& points);
+
+}  // namespace mereo::features

@@ -1,0 +1,59 @@
+// mereo/knowledge/predicates.hpp: the built-in fuzzy predicates and attributes, in [0, 1].
+//
+// All geometry is in one frame (camera or world, metres); `Context::up` points against gravity
+// in that frame. The predicates use the segments' analytic shapes (core/segment.hpp):
+//  - near(a, b; max = 0.01 m): 1 when the surfaces touch, falling to 0 at a gap of `max`; the gap
+//    is the larger of the two lower bounds dist(a's surface, b's centre) - extent(b) and vice
+//    versa (extent = bounding-sphere radius about the centre);
+//  - intersects(a, b; tolerance = 0.003 m): for a torus and a cylinder the handle-on-body
+//    function of Kasprzak et al.: the ring's inner edge (d - R_t, d = distance of the torus
+//    centre to the body axis) lies inside the body radius and its outer edge outside it, and the
+//    torus centre lies within the body's height; each condition a ramp of width 2*tolerance.
+//    Other pairs: a's surface distance to b's centre is within b's extent;
+//  - parallel / perpendicular(a, b; tolerance_deg = 10): angle between their axes (cylinder and
+//    line axis, plane normal, torus/arc ring normal), 1 within tolerance, 0 beyond 2*tolerance;
+//  - coaxial(a, b; tolerance_deg = 10, distance = 0.01 m): parallel and b's centre on a's axis;
+//  - above(a, b; margin = 0.01 m): a's centre higher than b's along `up`, ramp over `margin`;
+//  - on(a, b; tolerance = 0.01 m): a's lowest point at b's top (along `up`), and a's centre over
+//    b (horizontal distance within b's extent);
+//  - same_size(a, b; ratio = 0.8): min/max of the sizes (radius, or height for lines) >= ratio
+//    gives 1, falling to 0 at ratio - 0.2;
+//  - distance(a, b; min = 0, max, margin = 0.01 m): centre distance within [min, max].
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mereo/core/segment.hpp"
+#include "mereo/knowledge/model.hpp"
+
+namespace mereo::knowledge {
+
+struct Context {
+  Eigen::Vector3d up = -Eigen::Vector3d::UnitY();  ///< against gravity (camera frame: -y)
+};
+
+const std::vector<std::string>& builtin_predicates();
+bool is_builtin_predicate(const std::string& name);
+/// The parameters a built-in predicate accepts (for checking model files).
+const std::vector<std::string>& predicate_params(const std::string& name);
+
+/// Attribute names: radius, height, minor_radius, aspect (height / diameter), tilt_deg (angle
+/// between the axis and `up`), elevation (centre height along up, metres), inliers, residual,
+/// hue (degrees), d (plane offset).
+const std::vector<std::string>& attribute_names();
+bool is_attribute(const std::string& name);
+double attribute_value(const Segment& s, const std::string& name, const Context& context);
+
+/// The value of a constraint on the parts' data (custom or built-in), clamped to [0, 1].
+double evaluate(const Constraint& c, const std::vector<const Segment*>& parts,
+                const Context& context);
+
+/// Distance from p to the surface of s (its solid for closed shapes); >= 0 outside.
+double surface_distance(const Segment& s, const Eigen::Vector3d& p);
+/// Radius of a bounding sphere of s about s.point (0 for unbounded planes).
+double extent(const Segment& s);
+
+}  // namespace mereo::knowledge

@@ -1,0 +1,335 @@
+// bench_normals: mereo's per-pixel normals against PCL's IntegralImageNormalEstimation (all four
+// modes) and OpenCV's rgbd::RgbdNormals (FALS, LINEMOD, SRI), in one process, on the same VGA
+// frames: noisy synthetic frames with exact normals and the real mOSD frames.
+//
+// Per method: median ms per frame, mean and median angular error against the exact normals
+// (synthetic frames; the angle between lines, i.e. acos|n . n_true|, so that orientation
+// conventions do not count), and the share of valid input points that got a normal.
+// The inputs are converted to each library's type outside the timed region; only the normal
+// computation is timed. Methods are interleaved per frame and repetition so that machine load
+// affects them alike. The last line is one JSON object.
+//
+//   bench_normals            the full run (20 synthetic seeds, 24 real frames, 5 repetitions)
+//   bench_normals --quick    a few frames (ctest)
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/rgbd.hpp>
+#include <pcl/features/integral_image_normal.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include "mereo/extension/normals.hpp"
+#include "mereo/extension/projection.hpp"
+#include "mereo/io/io.hpp"
+#include "mereo/synthetic/scene.hpp"
+
+namespace fs = std::filesystem;
+using namespace mereo;
+
+namespace {
+
+struct Input {
+  std::string name;
+  bool synthetic = false;
+  Cloud cloud;
+  NormalMap truth;  // empty for real frames
+  Intrinsics K;
+  // library inputs, prepared once per frame (outside the timed region)
+  pcl::PointCloud<pcl::PointXYZ>::Ptr pcl_cloud;
+  cv::Mat cv_points;     // CV_32FC3 view of `cloud`
+  cv::Mat cv_depth_mm;   // CV_32FC1, millimetres (LINEMOD's depth threshold is 50 units)
+};
+
+struct Method {
+  std::string name;
+  std::string settings;
+  std::function<NormalMap(const Input&)> run;  // returns normals; timing covers only the call
+  std::vector<double> ms, ms_synthetic, ms_real;
+  std::vector<float> errors;
+  std::size_t valid_in = 0, valid_out = 0;
+};
+
+double now_ms() {
+  using namespace std::chrono;
+  return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+NormalMap from_mat(const cv::Mat& m) {
+  NormalMap n(m.rows, m.cols, kNaN);
+  for (int v = 0; v < m.rows; ++v) std::memcpy(n.ptr(v, 0), m.ptr<float>(v), sizeof(float) * 3 * m.cols);
+  return n;
+}
+
+Input prepare(std::string name, bool synthetic, Cloud cloud, NormalMap truth, Intrinsics K) {
+  Input in;
+  in.name = std::move(name);
+  in.synthetic = synthetic;
+  in.cloud = std::move(cloud);
+  in.truth = std::move(truth);
+  in.K = K;
+  const int H = in.cloud.rows(), W = in.cloud.cols();
+  in.pcl_cloud.reset(new pcl::PointCloud<pcl::PointXYZ>(W, H));
+  in.pcl_cloud->is_dense = false;
+  for (int v = 0; v < H; ++v)
+    for (int u = 0; u < W; ++u) {
+      const float* p = in.cloud.ptr(v, u);
+      auto& q = in.pcl_cloud->at(u, v);
+      q.x = p[0], q.y = p[1], q.z = p[2];
+    }
+  in.cv_points = cv::Mat(H, W, CV_32FC3, in.cloud.data());
+  in.cv_depth_mm = cv::Mat(H, W, CV_32FC1);
+  for (int v = 0; v < H; ++v)
+    for (int u = 0; u < W; ++u) in.cv_depth_mm.at<float>(v, u) = in.cloud(v, u, 2) * 1000.f;
+  return in;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--quick") quick = true;
+  const int n_synthetic = quick ? 3 : 20;
+  const int n_real = quick ? 2 : 24;
+  const int repeats = quick ? 2 : 5;
+  const int fast_window = 5, cov_window = 9;
+  const float depth_change = 0.02f;
+
+  // ---- frames ----
+  std::vector<Input> inputs;
+  for (int s = 0; s < n_synthetic; ++s) {
+    auto sf = synthetic::render(std::uint64_t(100 + s));
+    inputs.push_back(prepare("synthetic:" + std::to_string(100 + s), true,
+                             extension::back_project(sf.frame), sf.truth.normals,
+                             sf.frame.intrinsics));
+  }
+  const fs::path real_dir = fs::path(MEREO_REAL_DATA) / "pcl-mosd";
+  if (fs::is_directory(real_dir)) {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(real_dir))
+      if (e.path().extension() == ".pcd") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (int i = 0; i < int(files.size()) && i < n_real; ++i) {
+      Frame f = io::read(files[i].string());
+      inputs.push_back(prepare(files[i].filename().string(), false, extension::back_project(f),
+                               NormalMap(), f.intrinsics));
+    }
+  }
+  const int H = inputs.front().cloud.rows(), W = inputs.front().cloud.cols();
+
+  // ---- methods ----
+  std::vector<Method> methods;
+  auto add_mereo = [&](std::string name, extension::NormalOptions o, std::string settings) {
+    methods.push_back({name, settings, [o](const Input& in) { return extension::estimate_normals(in.cloud, o); }});
+  };
+  {
+    extension::NormalOptions o;
+    o.method = extension::NormalMethod::Fast;
+    o.window = fast_window;
+    o.depth_change_factor = depth_change;
+    add_mereo("mereo_fast", o, "window 5, depth_change_factor 0.02");
+    o.method = extension::NormalMethod::Covariance;
+    o.window = cov_window;
+    o.adaptive_window = false;
+    add_mereo("mereo_covariance", o, "window 9 (fixed), depth_change_factor 0.02");
+    o.adaptive_window = true;
+    add_mereo("mereo_covariance_adaptive", o,
+              "window 9 at 1 m, side 9 m / z in [3, 19], depth_change_factor 0.02");
+  }
+  const std::pair<const char*, pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal>::NormalEstimationMethod>
+      pcl_modes[] = {{"pcl_COVARIANCE_MATRIX", pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal>::COVARIANCE_MATRIX},
+                     {"pcl_AVERAGE_3D_GRADIENT", pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal>::AVERAGE_3D_GRADIENT},
+                     {"pcl_AVERAGE_DEPTH_CHANGE", pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal>::AVERAGE_DEPTH_CHANGE},
+                     {"pcl_SIMPLE_3D_GRADIENT", pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal>::SIMPLE_3D_GRADIENT}};
+  for (const auto& [name, mode] : pcl_modes) {
+    methods.push_back({name,
+                       "normal smoothing size 9 (its window: 9x9), max depth change factor 0.02 "
+                       "(PCL tutorial values: 10 and 0.02; 9 = mereo's window), "
+                       "no depth-dependent smoothing, border policy ignore",
+                       [mode = mode, depth_change, cov_window](const Input& in) {
+                         pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+                         ne.setNormalEstimationMethod(mode);
+                         ne.setMaxDepthChangeFactor(depth_change);
+                         ne.setNormalSmoothingSize(float(cov_window));
+                         ne.setDepthDependentSmoothing(false);
+                         ne.setInputCloud(in.pcl_cloud);
+                         pcl::PointCloud<pcl::Normal> out;
+                         ne.compute(out);
+                         NormalMap n(int(out.height), int(out.width), kNaN);
+                         for (std::size_t i = 0; i < out.size(); ++i) {
+                           n.data()[3 * i] = out[i].normal_x;
+                           n.data()[3 * i + 1] = out[i].normal_y;
+                           n.data()[3 * i + 2] = out[i].normal_z;
+                         }
+                         return n;
+                       }});
+  }
+  // OpenCV: one cached RgbdNormals per method and intrinsics (construction and initialize()
+  // precompute per-pixel tables; not timed)
+  struct CvCache {
+    Intrinsics K;
+    cv::Ptr<cv::rgbd::RgbdNormals> n;
+  };
+  const std::pair<const char*, int> cv_modes[] = {
+      {"opencv_FALS", cv::rgbd::RgbdNormals::RGBD_NORMALS_METHOD_FALS},
+      {"opencv_LINEMOD", cv::rgbd::RgbdNormals::RGBD_NORMALS_METHOD_LINEMOD},
+      {"opencv_SRI", cv::rgbd::RgbdNormals::RGBD_NORMALS_METHOD_SRI}};
+  auto caches = std::make_shared<std::vector<CvCache>>(3);
+  for (int m = 0; m < 3; ++m) {
+    const int mode = cv_modes[m].second;
+    const bool linemod = mode == cv::rgbd::RgbdNormals::RGBD_NORMALS_METHOD_LINEMOD;
+    methods.push_back(
+        {cv_modes[m].first,
+         linemod ? "depth in mm as CV_32F (its 50-unit depth threshold = 50 mm), fixed 11x11 "
+                   "sampling (window_size unused), CV_32F"
+                 : "window_size 5 (default), CV_32F, 3D points input",
+         [m, mode, linemod, caches](const Input& in) {
+           // the cache is filled before timing (see the warm-up below)
+           auto& c = (*caches)[m];
+           cv::Mat normals;
+           (*c.n)(linemod ? in.cv_depth_mm : in.cv_points, normals);
+           return from_mat(normals);
+         }});
+  }
+  auto ensure_cv = [&](const Input& in) {
+    for (int m = 0; m < 3; ++m) {
+      auto& c = (*caches)[m];
+      if (c.n && c.K == in.K) continue;
+      cv::Mat K = (cv::Mat_<double>(3, 3) << in.K.fx, 0, in.K.cx, 0, in.K.fy, in.K.cy, 0, 0, 1);
+      c.K = in.K;
+      c.n = cv::rgbd::RgbdNormals::create(in.cloud.rows(), in.cloud.cols(), CV_32F, K, 5, cv_modes[m].second);
+      c.n->initialize();
+    }
+  };
+
+  std::printf("bench_normals: %zu frames (%d synthetic noisy VGA, %zu real mOSD), %d repetitions, "
+              "%d threads for mereo (oneTBB) and OpenCV, PCL single-threaded\n",
+              inputs.size(), n_synthetic, inputs.size() - n_synthetic, repeats, cv::getNumThreads());
+
+  // ---- run ----
+  for (const Input& in : inputs) {
+    ensure_cv(in);
+    std::vector<NormalMap> results(methods.size());
+    for (int rep = 0; rep < repeats + 1; ++rep) {
+      for (std::size_t m = 0; m < methods.size(); ++m) {
+        const double t0 = now_ms();
+        NormalMap n = methods[m].run(in);
+        const double t = now_ms() - t0;
+        if (rep == 0) {  // warm-up (first touch of buffers, lazy init); keep its result
+          results[m] = n;
+          continue;
+        }
+        methods[m].ms.push_back(t);
+        (in.synthetic ? methods[m].ms_synthetic : methods[m].ms_real).push_back(t);
+      }
+    }
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      const NormalMap& n = results[m];
+      for (int v = 0; v < H; ++v)
+        for (int u = 0; u < W; ++u) {
+          const float* p = in.cloud.ptr(v, u);
+          if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && p[2] > 0.f)) continue;
+          ++methods[m].valid_in;
+          const float* q = n.ptr(v, u);
+          if (!(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]))) continue;
+          ++methods[m].valid_out;
+          if (!in.synthetic) continue;
+          const float* t = in.truth.ptr(v, u);
+          if (!std::isfinite(t[0])) continue;
+          const double len = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2]);
+          const double c = std::abs(double(q[0]) * t[0] + double(q[1]) * t[1] + double(q[2]) * t[2]) / len;
+          methods[m].errors.push_back(float(std::acos(std::min(1.0, c)) * 180.0 / M_PI));
+        }
+    }
+  }
+
+  // ---- report ----
+  struct Row {
+    double ms, ms_syn, ms_real, mean, med, valid;
+  };
+  std::vector<Row> rows;
+  std::printf("\n%-28s %9s %9s %9s %10s %10s %8s\n", "method", "ms", "ms_syn", "ms_real", "mean_deg",
+              "median_deg", "valid");
+  for (auto& m : methods) {
+    double mean = 0;
+    for (float e : m.errors) mean += e;
+    mean = m.errors.empty() ? NAN : mean / m.errors.size();
+    double med = NAN;
+    if (!m.errors.empty()) {
+      std::nth_element(m.errors.begin(), m.errors.begin() + m.errors.size() / 2, m.errors.end());
+      med = m.errors[m.errors.size() / 2];
+    }
+    const Row r{median(m.ms), median(m.ms_synthetic), median(m.ms_real), mean, med,
+                m.valid_in ? double(m.valid_out) / m.valid_in : 0.0};
+    rows.push_back(r);
+    std::printf("%-28s %9.2f %9.2f %9.2f %10.2f %10.2f %8.3f\n", m.name.c_str(), r.ms, r.ms_syn,
+                r.ms_real, r.mean, r.med, r.valid);
+  }
+  std::printf("\nsettings:\n");
+  for (auto& m : methods) std::printf("  %-28s %s\n", m.name.c_str(), m.settings.c_str());
+
+  auto idx = [&](const std::string& name) {
+    for (std::size_t i = 0; i < methods.size(); ++i)
+      if (methods[i].name == name) return i;
+    return std::size_t(0);
+  };
+  std::size_t cv_fastest = idx("opencv_FALS");
+  for (const char* n : {"opencv_LINEMOD", "opencv_SRI"})
+    if (rows[idx(n)].ms < rows[cv_fastest].ms) cv_fastest = idx(n);
+  const Row& fast = rows[idx("mereo_fast")];
+  const Row& cov = rows[idx("mereo_covariance")];
+  const Row& cova = rows[idx("mereo_covariance_adaptive")];
+  const Row& pcl_cov = rows[idx("pcl_COVARIANCE_MATRIX")];
+  const double fast_speedup = rows[cv_fastest].ms / fast.ms;
+  const double cov_speedup = pcl_cov.ms / cov.ms;
+  const double cova_speedup = pcl_cov.ms / cova.ms;
+  const bool fast_ok = fast_speedup >= 1.5 && fast.mean <= rows[cv_fastest].mean;
+  const bool cov_ok = cov_speedup >= 3.0 && cov.mean <= pcl_cov.mean;
+  const bool cova_ok = cova_speedup >= 3.0 && cova.mean <= pcl_cov.mean;
+  std::printf("\nmereo_fast vs %s (OpenCV's fastest here): %.2fx faster, mean error %.2f vs %.2f deg -> %s\n",
+              methods[cv_fastest].name.c_str(), fast_speedup, fast.mean, rows[cv_fastest].mean,
+              fast_ok ? "target met (>= 1.5x, error <=)" : "TARGET MISSED");
+  std::printf("mereo_covariance vs pcl_COVARIANCE_MATRIX: %.2fx faster, mean error %.2f vs %.2f deg -> %s\n",
+              cov_speedup, cov.mean, pcl_cov.mean, cov_ok ? "target met (>= 3x, error <=)" : "TARGET MISSED");
+  std::printf("mereo_covariance_adaptive vs pcl_COVARIANCE_MATRIX: %.2fx faster, mean error %.2f vs %.2f deg -> %s\n",
+              cova_speedup, cova.mean, pcl_cov.mean, cova_ok ? "target met" : "target missed");
+
+  std::string json = "{\"bench\": \"normals\", \"quick\": " + std::string(quick ? "true" : "false") +
+                     ", \"frames_synthetic\": " + std::to_string(n_synthetic) +
+                     ", \"frames_real\": " + std::to_string(inputs.size() - n_synthetic) +
+                     ", \"repeats\": " + std::to_string(repeats) + ", \"methods\": {";
+  char buf[512];
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    const Row& r = rows[i];
+    std::snprintf(buf, sizeof buf,
+                  "%s\"%s\": {\"median_ms\": %.3f, \"median_ms_synthetic\": %.3f, \"median_ms_real\": %.3f, "
+                  "\"mean_error_deg\": %.3f, \"median_error_deg\": %.3f, \"valid_share\": %.4f}",
+                  i ? ", " : "", methods[i].name.c_str(), r.ms, r.ms_syn, std::isnan(r.ms_real) ? -1.0 : r.ms_real,
+                  r.mean, r.med, r.valid);
+    json += buf;
+  }
+  std::snprintf(buf, sizeof buf,
+                "}, \"opencv_fastest\": \"%s\", \"fast_speedup_vs_opencv_fastest\": %.3f, "
+                "\"covariance_speedup_vs_pcl_covariance\": %.3f, \"covariance_adaptive_speedup_vs_pcl_covariance\": %.3f, "
+                "\"fast_target_met\": %s, \"covariance_target_met\": %s}",
+                methods[cv_fastest].name.c_str(), fast_speedup, cov_speedup, cova_speedup,
+                fast_ok ? "true" : "false", cov_ok ? "true" : "false");
+  json += buf;
+  std::printf("%s\n", json.c_str());
+  return 0;
+}

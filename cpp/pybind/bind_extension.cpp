@@ -1,8 +1,12 @@
-// The extension layer: back-projection and intrinsics fitting.
+// The extension layer: back-projection, intrinsics fitting, normals, the support plane.
+#include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "converters.hpp"
+#include "mereo/extension/normals.hpp"
 #include "mereo/extension/projection.hpp"
+#include "mereo/extension/support_plane.hpp"
 #include "numpy_view.hpp"
 
 namespace py = pybind11;
@@ -39,4 +43,82 @@ void bind_extension(py::module_& m) {
           return py::make_tuple(K, residual);
         },
         py::arg("cloud"), "Least-squares pinhole fit to an organized cloud: (Intrinsics, max residual px).");
+
+  m.def("estimate_normals",
+        [](py::handle cloud, const std::string& method, int window, double depth_change_factor,
+           bool adaptive_window, double reference_depth) {
+          ext::NormalOptions o;
+          o.method = ext::normal_method(method);
+          o.window = window;
+          o.depth_change_factor = depth_change_factor;
+          o.adaptive_window = adaptive_window;
+          o.reference_depth = reference_depth;
+          const auto c = from_numpy<float, 3>(cloud, "cloud");
+          mereo::NormalMap n;
+          {
+            py::gil_scoped_release release;
+            n = ext::estimate_normals(c, o);
+          }
+          return to_numpy(n);  // a view of the C++ result, no copy
+        },
+        py::arg("cloud"), py::arg("method") = "fast", py::arg("window") = 5,
+        py::arg("depth_change_factor") = 0.02, py::arg("adaptive_window") = true,
+        py::arg("reference_depth") = 1.0,
+        "Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN where "
+        "undefined. method 'fast' (least-squares tangents) or 'covariance' (PCA, integral images); "
+        "windows never cross a depth jump larger than depth_change_factor * z.");
+
+  py::class_<ext::SupportPlane>(m, "SupportPlane",
+                                "The table plane: normal (towards the camera), d (normal . x + d = 0), "
+                                "polygon (N, 3), inliers and roi masks, world_from_camera (4x4, z up).")
+      .def_property_readonly("normal", [](const ext::SupportPlane& p) { return p.normal; })
+      .def_readonly("d", &ext::SupportPlane::d)
+      .def_readonly("inlier_count", &ext::SupportPlane::inlier_count)
+      .def_readonly("rms", &ext::SupportPlane::rms)
+      .def_property_readonly("polygon",
+                             [](const ext::SupportPlane& p) {
+                               Eigen::MatrixX3d out(p.polygon.size(), 3);
+                               for (std::size_t i = 0; i < p.polygon.size(); ++i) out.row(i) = p.polygon[i];
+                               return out;
+                             })
+      .def_property_readonly("inliers", [](const ext::SupportPlane& p) { return to_numpy(p.inliers); })
+      .def_property_readonly("roi", [](const ext::SupportPlane& p) { return to_numpy(p.roi); })
+      .def_property_readonly("world_from_camera",
+                             [](const ext::SupportPlane& p) { return Eigen::Matrix4d(p.world_from_camera.matrix()); })
+      .def("height", [](const ext::SupportPlane& p, const Eigen::Vector3d& x) { return p.height(x); },
+           py::arg("point"), "Signed height of a camera-frame point above the plane, metres.")
+      .def("__repr__", [](const ext::SupportPlane& p) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "<mereo.SupportPlane n=(%.3f, %.3f, %.3f) d=%.3f, %zu inliers>",
+                      p.normal.x(), p.normal.y(), p.normal.z(), p.d, p.inlier_count);
+        return std::string(buf);
+      });
+  mereo::py_util::register_converter(
+      "SupportPlane", {[](const mereo::graph::Value& v) { return py::cast(v.get<ext::SupportPlane>()); },
+                       [](const py::handle& h) {
+                         return mereo::graph::Value::make<ext::SupportPlane>(h.cast<ext::SupportPlane>());
+                       }});
+
+  m.def("find_support_plane",
+        [](py::handle cloud, py::handle normals, std::optional<Eigen::Vector3d> up, double epsilon,
+           int min_inliers, double min_height, double max_height, double margin, std::uint64_t seed) {
+          ext::SupportPlaneOptions o;
+          o.up = up;
+          o.epsilon = epsilon;
+          o.min_inliers = min_inliers;
+          o.min_height = min_height;
+          o.max_height = max_height;
+          o.margin = margin;
+          o.seed = seed;
+          const auto c = from_numpy<float, 3>(cloud, "cloud");
+          const auto n = from_numpy<float, 3>(normals, "normals");
+          py::gil_scoped_release release;
+          return ext::find_support_plane(c, n, o);
+        },
+        py::arg("cloud"), py::arg("normals"), py::arg("up") = py::none(), py::arg("epsilon") = 0.008,
+        py::arg("min_inliers") = 2000, py::arg("min_height") = 0.006, py::arg("max_height") = 0.40,
+        py::arg("margin") = 0.0, py::arg("seed") = 0,
+        "The dominant horizontal plane under the objects (the table) with its polygon, the mask of the "
+        "points above it (roi) and a world frame with z up. `up`: the camera-frame direction against "
+        "gravity when known. Raises InputError when there is no such plane.");
 }

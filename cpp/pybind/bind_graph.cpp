@@ -222,6 +222,7 @@ void bind_graph(py::module_& m) {
   pu::register_converter("Depth", pu::image_converter<float, 1>("Depth"));
   pu::register_converter("Color", pu::image_converter<std::uint8_t, 3>("Color"));
   pu::register_converter("Labels", pu::image_converter<std::uint32_t, 1>("Labels"));
+  pu::register_converter("Mask", pu::image_converter<std::uint8_t, 1>("Mask"));
   pu::register_converter("Number", {[](const Value& v) { return py::cast(v.get<double>()); },
                                     [](const py::handle& h) { return Value::make<double>(h.cast<double>()); }});
   pu::register_converter("Text", {[](const Value& v) { return py::cast(v.get<std::string>()); },

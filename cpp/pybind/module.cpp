@@ -7,6 +7,7 @@ namespace py = pybind11;
 
 void bind_core(py::module_& m);
 void bind_io(py::module_& m);
+void bind_signal(py::module_& m);
 void bind_extension(py::module_& m);
 void bind_synthetic(py::module_& m);
 void bind_graph(py::module_& m);
@@ -18,6 +19,8 @@ PYBIND11_MODULE(_mereo, m) {
   bind_core(m);
   auto io = m.def_submodule("io", "Frame sources and writers (the hardware layer).");
   bind_io(io);
+  auto sig = m.def_submodule("signal", "Per-image depth preprocessing (the signal layer).");
+  bind_signal(sig);
   auto ext = m.def_submodule("extension", "Depth to XYZ, normals, support plane (the extension layer).");
   bind_extension(ext);
   auto syn = m.def_submodule("synthetic", "The built-in tabletop scene renderer with exact ground truth.");

@@ -1,4 +1,4 @@
-"""The extension layer: depth to XYZ (and, later, normals and the support plane)."""
-from ._mereo.extension import back_project, fit_intrinsics
+"""The extension layer: depth to XYZ, per-pixel normals, the support plane and the region of interest."""
+from ._mereo.extension import SupportPlane, back_project, estimate_normals, find_support_plane, fit_intrinsics
 
-__all__ = ["back_project", "fit_intrinsics"]
+__all__ = ["SupportPlane", "back_project", "estimate_normals", "find_support_plane", "fit_intrinsics"]

@@ -163,36 +163,44 @@ int for_each_near(const Cloud& cloud, int v, int u, int side, double factor, Add
   return n;
 }
 
-/// Masked least-squares tangents at an edge pixel: fits p = p0 + a du + b dv to the accepted
-/// points, n = a x b.
+/// Masked least-squares tangents at an edge pixel: fits p = p0 + a du + b dv to the points of
+/// the window within depth_change_factor * z of the centre, n = a x b (float: the coordinates
+/// are relative to the centre, so they are small).
 void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalOptions& o,
                        float* out) {
-  double m[6] = {0, 0, 0, 0, 0, 0};  // N, du, dv, du du, du dv, dv dv
-  double sc[3] = {0, 0, 0}, su[3] = {0, 0, 0}, sv[3] = {0, 0, 0};
-  const int n = for_each_near(cloud, v, u, side, o.depth_change_factor,
-                              [&](double du, double dv, double x, double y, double z) {
-                                m[0] += 1, m[1] += du, m[2] += dv;
-                                m[3] += du * du, m[4] += du * dv, m[5] += dv * dv;
-                                const double c[3] = {x, y, z};
-                                for (int k = 0; k < 3; ++k) {
-                                  sc[k] += c[k], su[k] += du * c[k], sv[k] += dv * c[k];
-                                }
-                              });
-  const float* p = cloud.ptr(v, u);
+  const float* c = cloud.ptr(v, u);
+  const float t = float(o.depth_change_factor) * c[2];
+  const int r = side / 2;
+  const int v0 = std::max(0, v - r), v1 = std::min(cloud.rows() - 1, v + r);
+  const int u0 = std::max(0, u - r), u1 = std::min(cloud.cols() - 1, u + r);
+  float N = 0, Su = 0, Sv = 0, Suu = 0, Suv = 0, Svv = 0;
+  float sc[3] = {0, 0, 0}, su[3] = {0, 0, 0}, sv[3] = {0, 0, 0};
+  for (int vv = v0; vv <= v1; ++vv) {
+    const float* q = cloud.ptr(vv, u0);
+    const float dv = float(vv - v);
+    for (int uu = u0; uu <= u1; ++uu, q += 3) {
+      if (!(std::abs(q[2] - c[2]) <= t)) continue;  // also false for a missing (NaN) point
+      const float du = float(uu - u);
+      N += 1, Su += du, Sv += dv, Suu += du * du, Suv += du * dv, Svv += dv * dv;
+      for (int k = 0; k < 3; ++k) {
+        const float x = q[k] - c[k];
+        sc[k] += x, su[k] += du * x, sv[k] += dv * x;
+      }
+    }
+  }
   out[0] = out[1] = out[2] = kNaN;
-  if (n < std::max(3, o.min_points)) return;
-  // inverse of the symmetric M = [[N, Su, Sv], [Su, Suu, Suv], [Sv, Suv, Svv]] (rows 1 and 2)
-  const double N = m[0], Su = m[1], Sv = m[2], Suu = m[3], Suv = m[4], Svv = m[5];
-  const double c00 = Suu * Svv - Suv * Suv, c01 = Sv * Suv - Su * Svv, c02 = Su * Suv - Sv * Suu;
-  const double det = N * c00 + Su * c01 + Sv * c02;
-  if (!(det > 0.5)) return;  // an integer; 0 when the pixels are collinear
-  const double c11 = N * Svv - Sv * Sv, c12 = Su * Sv - N * Suv, c22 = N * Suu - Su * Su;
-  double a[3], b[3];
+  if (N < float(std::max(3, o.min_points))) return;
+  // rows 1 and 2 of the adjugate of M = [[N, Su, Sv], [Su, Suu, Suv], [Sv, Suv, Svv]]
+  const float c00 = Suu * Svv - Suv * Suv, c01 = Sv * Suv - Su * Svv, c02 = Su * Suv - Sv * Suu;
+  const float det = N * c00 + Su * c01 + Sv * c02;
+  if (!(det > 0.5f)) return;  // an integer; 0 when the pixels are collinear
+  const float c11 = N * Svv - Sv * Sv, c12 = Su * Sv - N * Suv, c22 = N * Suu - Su * Su;
+  float a[3], b[3];
   for (int k = 0; k < 3; ++k) {
     a[k] = c01 * sc[k] + c11 * su[k] + c12 * sv[k];
     b[k] = c02 * sc[k] + c12 * su[k] + c22 * sv[k];
   }
-  store_normal(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0], p,
+  store_normal(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0], c,
                out);
 }
 
@@ -218,103 +226,180 @@ void explicit_covariance(const Cloud& cloud, int v, int u, int side, const Norma
 
 // ---- fast: separable least-squares tangents ----------------------------------------------
 
-void fast_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& out) {
+/// Edge flags (1 = missing, or a 4-neighbour missing or further than factor * z in depth), one
+/// byte per pixel, written branch-free so that the compiler vectorizes the rows. A point is
+/// missing when its z is not a positive finite number.
+std::vector<std::uint8_t> edge_flags(const Cloud& cloud, double factor) {
   const int H = cloud.rows(), W = cloud.cols();
-  const int r = o.window / 2;
-  const auto dist = edge_distance(cloud, o.depth_change_factor, r + 1);
+  std::vector<float> zimg(std::size_t(H) * W);
+  std::vector<std::uint8_t> edge(std::size_t(H) * W);
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 32), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      const float* p = cloud.ptr(v, 0);
+      float* z = zimg.data() + std::size_t(v) * W;
+      for (int u = 0; u < W; ++u) {
+        const float zz = p[3 * u + 2];
+        z[u] = (zz > 0.f && zz < INFINITY) ? zz : kNaN;
+      }
+    }
+  });
+  const float f = float(factor);
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 32), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      const float* z = zimg.data() + std::size_t(v) * W;
+      const float* zu = v > 0 ? z - W : z;  // no neighbour outside the image
+      const float* zd = v + 1 < H ? z + W : z;
+      std::uint8_t* e = edge.data() + std::size_t(v) * W;
+      for (int u = 1; u + 1 < W; ++u) {
+        const float t = f * z[u];
+        const bool ok = std::abs(z[u - 1] - z[u]) <= t && std::abs(z[u + 1] - z[u]) <= t &&
+                        std::abs(zu[u] - z[u]) <= t && std::abs(zd[u] - z[u]) <= t;
+        e[u] = ok ? 0 : 1;  // NaN anywhere makes a comparison false
+      }
+      for (int u : {0, W - 1}) {
+        const float t = f * z[u];
+        const int l = std::max(u - 1, 0), rr = std::min(u + 1, W - 1);
+        const bool ok = std::abs(z[l] - z[u]) <= t && std::abs(z[rr] - z[u]) <= t &&
+                        std::abs(zu[u] - z[u]) <= t && std::abs(zd[u] - z[u]) <= t;
+        e[u] = ok ? 0 : 1;
+      }
+    }
+  });
+  return edge;
+}
+
+/// The fast method. Per row: vertical box and ramp sums of x, y, z over the window's rows, then
+/// horizontal ramp and box sums give t_u = sum du * p and t_v = sum dv * p, n = t_u x t_v, all in
+/// float over contiguous arrays (vectorized). A pixel whose window holds an edge pixel (or
+/// reaches past the border) is handled alone by explicit_tangents.
+/// kR > 0: the window radius as a compile-time constant (unrolled, vectorized inner loops);
+/// kR = 0: any radius, read from the options.
+template <int kR>
+void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) {
+  const int H = cloud.rows(), W = cloud.cols();
+  const int r = kR > 0 ? kR : o.window / 2;
+  const auto edge = edge_flags(cloud, o.depth_change_factor);
   const int block = 32;
   const int blocks = (H + block - 1) / block;
   tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& br) {
-    // per row of the block plus margins: SoA x y z, then 12 horizontal channels
-    // (window: sum c, sum du*c; 3x3: sum c, sum du*c) for c in x, y, z
-    std::vector<float> soa(3 * std::size_t(W));
-    std::vector<float> hbuf;
-    std::vector<float> acc(12 * std::size_t(W));
+    std::vector<float> soa;                    // rows ya..yb: x, y, z planes, 0 where invalid
+    std::vector<float> vs(6 * std::size_t(W));  // Bx By Bz Rx Ry Rz
+    std::vector<float> nn(3 * std::size_t(W));  // unnormalised normals
+    std::vector<std::uint16_t> cv(W), cnt(W), cv3(W), cnt3(W);
     for (int b = br.begin(); b < br.end(); ++b) {
       const int v0 = b * block, v1 = std::min(H, v0 + block);
       const int ya = std::max(0, v0 - r), yb = std::min(H, v1 + r);
-      hbuf.assign(std::size_t(yb - ya) * 12 * W, 0.f);
+      soa.resize(std::size_t(yb - ya) * 3 * W);
       for (int y = ya; y < yb; ++y) {
         const float* row = cloud.ptr(y, 0);
-        float* X = soa.data();
+        const std::uint8_t* e = edge.data() + std::size_t(y) * W;
+        float* X = soa.data() + std::size_t(y - ya) * 3 * W;
         float* Y = X + W;
         float* Z = Y + W;
         for (int u = 0; u < W; ++u) {
-          const float* p = row + 3 * u;
-          const bool ok = valid_point(p);
-          X[u] = ok ? p[0] : 0.f;
-          Y[u] = ok ? p[1] : 0.f;
-          Z[u] = ok ? p[2] : 0.f;
-        }
-        float* hr = hbuf.data() + std::size_t(y - ya) * 12 * W;
-        for (int c = 0; c < 3; ++c) {
-          const float* P = soa.data() + std::size_t(c) * W;
-          float* S0 = hr + std::size_t(4 * c + 0) * W;  // window sum
-          float* S1 = hr + std::size_t(4 * c + 1) * W;  // window sum of du * c
-          float* T0 = hr + std::size_t(4 * c + 2) * W;  // 3x3 sum
-          float* T1 = hr + std::size_t(4 * c + 3) * W;  // 3x3 sum of du * c
-          for (int u = 1; u + 1 < W; ++u) {
-            T0[u] = P[u - 1] + P[u] + P[u + 1];
-            T1[u] = P[u + 1] - P[u - 1];
-          }
-          for (int u = r; u + r < W; ++u) {
-            float s0 = P[u], s1 = 0.f;
-            for (int k = 1; k <= r; ++k) {
-              s0 += P[u + k] + P[u - k];
-              s1 += float(k) * (P[u + k] - P[u - k]);
-            }
-            S0[u] = s0;
-            S1[u] = s1;
-          }
+          // edge pixels may be invalid; their windows are never summed, so 0 is safe
+          const bool ok = !e[u];
+          X[u] = ok ? row[3 * u] : 0.f;
+          Y[u] = ok ? row[3 * u + 1] : 0.f;
+          Z[u] = ok ? row[3 * u + 2] : 0.f;
         }
       }
-      auto hrow = [&](int y, int ch) { return hbuf.data() + (std::size_t(y - ya) * 12 + ch) * W; };
+      auto plane = [&](int y, int c) { return soa.data() + (std::size_t(y - ya) * 3 + c) * W; };
       for (int v = v0; v < v1; ++v) {
-        // acc: [A_x A_y A_z B_x B_y B_z] for the window, then the same for 3x3
-        std::fill(acc.begin(), acc.end(), 0.f);
-        if (v - r >= 0 && v + r < H) {
-          for (int c = 0; c < 3; ++c) {
-            float* A = acc.data() + std::size_t(c) * W;
-            float* B = acc.data() + std::size_t(3 + c) * W;
-            for (int dv = -r; dv <= r; ++dv) {
-              const float* S1 = hrow(v + dv, 4 * c + 1);
-              for (int u = 0; u < W; ++u) A[u] += S1[u];
-            }
-            for (int k = 1; k <= r; ++k) {
-              const float* Sp = hrow(v + k, 4 * c);
-              const float* Sm = hrow(v - k, 4 * c);
-              const float fk = float(k);
-              for (int u = 0; u < W; ++u) B[u] += fk * (Sp[u] - Sm[u]);
-            }
-          }
-        }
-        if (v >= 1 && v + 1 < H && r > 1) {
-          for (int c = 0; c < 3; ++c) {
-            float* A = acc.data() + std::size_t(6 + c) * W;
-            float* B = acc.data() + std::size_t(9 + c) * W;
-            const float *Tm = hrow(v - 1, 4 * c + 3), *T0 = hrow(v, 4 * c + 3),
-                        *Tp = hrow(v + 1, 4 * c + 3);
-            const float *Gp = hrow(v + 1, 4 * c + 2), *Gm = hrow(v - 1, 4 * c + 2);
-            for (int u = 0; u < W; ++u) {
-              A[u] = Tm[u] + T0[u] + Tp[u];
-              B[u] = Gp[u] - Gm[u];
-            }
-          }
-        }
-        const std::uint8_t* d = dist.data() + std::size_t(v) * W;
-        const float* row = cloud.ptr(v, 0);
         float* nrow = out.ptr(v, 0);
+        const float* prow = cloud.ptr(v, 0);
+        const bool rows_inside = v - r >= 0 && v + r < H;
+        if (rows_inside) {
+          for (int c = 0; c < 3; ++c) {
+            float* B = vs.data() + std::size_t(c) * W;
+            float* R = vs.data() + std::size_t(3 + c) * W;
+            const float* P0 = plane(v, c);
+            for (int u = 0; u < W; ++u) B[u] = P0[u], R[u] = 0.f;
+            for (int k = 1; k <= r; ++k) {
+              const float* Pp = plane(v + k, c);
+              const float* Pm = plane(v - k, c);
+              const float fk = float(k);
+              for (int u = 0; u < W; ++u) {
+                B[u] += Pp[u] + Pm[u];
+                R[u] += fk * (Pp[u] - Pm[u]);
+              }
+            }
+          }
+          // edge pixels in the window: vertical then horizontal counts
+          const std::uint8_t* e0 = edge.data() + std::size_t(v) * W;
+          for (int u = 0; u < W; ++u) cv[u] = e0[u];
+          for (int k = 1; k <= r; ++k) {
+            const std::uint8_t* ep = edge.data() + std::size_t(v + k) * W;
+            const std::uint8_t* em = edge.data() + std::size_t(v - k) * W;
+            for (int u = 0; u < W; ++u) cv[u] = std::uint16_t(cv[u] + ep[u] + em[u]);
+          }
+          for (int u = r; u + r < W; ++u) {
+            std::uint16_t s = cv[u];
+            for (int k = 1; k <= r; ++k) s = std::uint16_t(s + cv[u + k] + cv[u - k]);
+            cnt[u] = s;
+          }
+          for (int u = 0; u < r; ++u) cnt[u] = cnt[W - 1 - u] = 1;  // window past the border
+          // the same over 3 x 3 (the fallback of pixels near an edge)
+          {
+            const std::uint8_t* ep = edge.data() + std::size_t(v + 1) * W;
+            const std::uint8_t* em = edge.data() + std::size_t(v - 1) * W;
+            for (int u = 0; u < W; ++u) cv3[u] = std::uint16_t(e0[u] + ep[u] + em[u]);
+            for (int u = 1; u + 1 < W; ++u) cnt3[u] = std::uint16_t(cv3[u - 1] + cv3[u] + cv3[u + 1]);
+            cnt3[0] = cnt3[W - 1] = 1;
+          }
+          // t_u = sum du * B (horizontal ramp), t_v = sum R (horizontal box); n = t_u x t_v
+          const float* Bx = vs.data();
+          const float* By = Bx + W;
+          const float* Bz = By + W;
+          const float* Rx = Bz + W;
+          const float* Ry = Rx + W;
+          const float* Rz = Ry + W;
+          float* NX = nn.data();
+          float* NY = NX + W;
+          float* NZ = NY + W;
+          for (int u = r; u + r < W; ++u) {
+            float ax = 0, ay = 0, az = 0, bx = Rx[u], by = Ry[u], bz = Rz[u];
+            for (int k = 1; k <= r; ++k) {
+              const float fk = float(k);
+              ax += fk * (Bx[u + k] - Bx[u - k]);
+              ay += fk * (By[u + k] - By[u - k]);
+              az += fk * (Bz[u + k] - Bz[u - k]);
+              bx += Rx[u + k] + Rx[u - k];
+              by += Ry[u + k] + Ry[u - k];
+              bz += Rz[u + k] + Rz[u - k];
+            }
+            NX[u] = ay * bz - az * by;
+            NY[u] = az * bx - ax * bz;
+            NZ[u] = ax * by - ay * bx;
+          }
+          // normalise and turn towards the camera (branch-free; 0/0 gives NaN, kept as NaN)
+          for (int u = r; u + r < W; ++u) {
+            const float* p = prow + 3 * u;
+            const float nx = NX[u], ny = NY[u], nz = NZ[u];
+            float s = 1.f / std::sqrt(nx * nx + ny * ny + nz * nz);
+            s = (nx * p[0] + ny * p[1] + nz * p[2] > 0.f) ? -s : s;
+            NX[u] = nx * s, NY[u] = ny * s, NZ[u] = nz * s;
+          }
+        }
         for (int u = 0; u < W; ++u) {
-          const float* p = row + 3 * u;
+          const float* p = prow + 3 * u;
           float* n = nrow + 3 * u;
-          if (d[u] > r || (d[u] >= 2 && r > 1)) {
-            const int off = d[u] > r ? 0 : 6;
-            const float ax = acc[(off + 0) * W + u], ay = acc[(off + 1) * W + u],
-                        az = acc[(off + 2) * W + u];
-            const float bx = acc[(off + 3) * W + u], by = acc[(off + 4) * W + u],
-                        bz = acc[(off + 5) * W + u];
-            store_normal(double(ay * bz - az * by), double(az * bx - ax * bz),
-                         double(ax * by - ay * bx), p, n);
+          if (rows_inside && cnt[u] == 0) {
+            const float nx = nn[u], ny = nn[W + u], nz = nn[2 * W + u];
+            const bool ok = std::isfinite(nx) && std::isfinite(ny) && std::isfinite(nz);
+            n[0] = ok ? nx : kNaN, n[1] = ok ? ny : kNaN, n[2] = ok ? nz : kNaN;
+          } else if (rows_inside && r > 1 && cnt3[u] == 0) {
+            // 3 x 3 tangents from the same planes (no edge pixel among the nine)
+            float a[3], bb[3];
+            for (int c = 0; c < 3; ++c) {
+              const float* Pm = plane(v - 1, c);
+              const float* P0 = plane(v, c);
+              const float* Pp = plane(v + 1, c);
+              a[c] = (Pm[u + 1] - Pm[u - 1]) + (P0[u + 1] - P0[u - 1]) + (Pp[u + 1] - Pp[u - 1]);
+              bb[c] = (Pp[u - 1] - Pm[u - 1]) + (Pp[u] - Pm[u]) + (Pp[u + 1] - Pm[u + 1]);
+            }
+            store_normal(a[1] * bb[2] - a[2] * bb[1], a[2] * bb[0] - a[0] * bb[2],
+                         a[0] * bb[1] - a[1] * bb[0], p, n);
           } else if (valid_point(p)) {
             explicit_tangents(cloud, v, u, std::min(o.window, 5), o, n);
           } else {
@@ -324,6 +409,16 @@ void fast_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& out) {
       }
     }
   });
+}
+
+void fast_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& out) {
+  switch (o.window / 2) {
+    case 1: return fast_normals_r<1>(cloud, o, out);
+    case 2: return fast_normals_r<2>(cloud, o, out);
+    case 3: return fast_normals_r<3>(cloud, o, out);
+    case 4: return fast_normals_r<4>(cloud, o, out);
+    default: return fast_normals_r<0>(cloud, o, out);
+  }
 }
 
 // ---- covariance: integral images of first and second moments ------------------------------

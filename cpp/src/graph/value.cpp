@@ -8,6 +8,7 @@
 
 #include "mereo/core/frame.hpp"
 #include "mereo/core/segment.hpp"
+#include "mereo/extension/support_plane.hpp"
 
 namespace mereo::graph {
 
@@ -66,6 +67,14 @@ void register_builtin(Registry& r) {
   add<DepthImage>(r, "Depth", [](const DepthImage& c) { return image_text(c, "depth image"); });
   add<ColorImage>(r, "Color", [](const ColorImage& c) { return image_text(c, "colour image"); });
   add<LabelImage>(r, "Labels", [](const LabelImage& c) { return image_text(c, "label image"); });
+  add<extension::Mask>(r, "Mask", [](const extension::Mask& c) { return image_text(c, "mask"); });
+  add<extension::SupportPlane>(r, "SupportPlane", [](const extension::SupportPlane& p) {
+    std::ostringstream s;
+    s.precision(4);
+    s << "plane n=(" << p.normal.x() << ", " << p.normal.y() << ", " << p.normal.z() << ") d=" << p.d
+      << ", " << p.inlier_count << " inliers, " << p.polygon.size() << "-gon";
+    return s.str();
+  });
   add<std::vector<Segment>>(r, "Segments", [](const std::vector<Segment>& s) {
     return std::to_string(s.size()) + " segments";
   });

@@ -5,7 +5,10 @@ namespace mereo::nodes {
 std::vector<graph::NodeSpec> builtin_node_specs() {
   return {
       frame_source_node(),
+      filter_depth_node(),
       back_project_node(),
+      estimate_normals_node(),
+      support_plane_node(),
       // diagnostics: engine tests and benchmarks
       identity_node(),
       checksum_node(),

@@ -10,6 +10,9 @@ namespace mereo::nodes {
 // One function per node file in cpp/src/nodes/; add yours here and in registry.cpp.
 graph::NodeSpec frame_source_node();
 graph::NodeSpec back_project_node();
+graph::NodeSpec filter_depth_node();
+graph::NodeSpec estimate_normals_node();
+graph::NodeSpec support_plane_node();
 graph::NodeSpec identity_node();
 graph::NodeSpec checksum_node();
 graph::NodeSpec fail_on_frame_node();

@@ -5,10 +5,11 @@ from __future__ import annotations
 import collections.abc
 import typing
 from . import io
+from . import signal
 from . import extension
 from . import synthetic
 from . import nodes
-__all__: list[str] = ['Frame', 'FrameQueue', 'Graph', 'GraphError', 'InputError', 'Intrinsics', 'Node', 'NodeError', 'NodeTemplate', 'Port', 'extension', 'io', 'node_doc', 'nodes', 'synthetic']
+__all__: list[str] = ['Frame', 'FrameQueue', 'Graph', 'GraphError', 'InputError', 'Intrinsics', 'Node', 'NodeError', 'NodeTemplate', 'Port', 'extension', 'io', 'node_doc', 'nodes', 'signal', 'synthetic']
 class InputError(ValueError):
     pass
 class Intrinsics:

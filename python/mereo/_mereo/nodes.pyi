@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'back_project', 'identity', 'checksum', 'fail_on_frame']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'identity', 'checksum', 'fail_on_frame']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -24,6 +24,21 @@ def checksum(**kwargs) -> mereo._mereo.NodeTemplate:
     Options:
         rounds (int, default 1, 1..1e+06): passes over the image
     """
+def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    Per-pixel unit normals (camera frame, towards the camera, NaN where undefined); windows never cross a depth jump.
+    
+    Inputs:
+        cloud (Cloud): organized XYZ cloud
+    Outputs:
+        normals (NormalMap): H x W x 3 unit normals
+    Options:
+        method (str, default fast, one of fast covariance): fast: least-squares tangents; covariance: PCA through integral images
+        window (int, default 5, 3..101): window side in pixels (odd)
+        depth_change_factor (float, default 0.02, 0.0001..1): a depth jump larger than this times z breaks smoothing
+        adaptive_window (bool, default true): covariance: the window shrinks with depth (constant metric size)
+        reference_depth (float, default 1, 0.1..10): metres: depth at which the adaptive window equals `window`
+    """
 def fail_on_frame(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     Passes the frame on, but throws on the frame with the given index (error-policy tests).
@@ -34,6 +49,20 @@ def fail_on_frame(**kwargs) -> mereo._mereo.NodeTemplate:
         frame (Frame): the same frame
     Options:
         frame (int, default 0, 0..1e+12): index of the frame to fail on
+    """
+def filter_depth(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    The frame with its depth smoothed by an edge-preserving bilateral filter (depth jumps stay sharp).
+    
+    Inputs:
+        frame (Frame): an RGB-D frame
+    Outputs:
+        frame (Frame): the same frame, depth (and its own cloud, if any) filtered
+    Options:
+        radius (int, default 2, 1..10): window half-size, pixels
+        sigma_space (float, default 1.5, 0.1..20): spatial sigma, pixels
+        sigma_depth (float, default 0.004, 1e-05..0.1): range sigma at 1 m, metres (grows with z^2)
+        depth_change_factor (float, default 0.02, 0.0001..1): neighbours further than this times z are ignored
     """
 def frame_source(**kwargs) -> mereo._mereo.NodeTemplate:
     """
@@ -50,4 +79,23 @@ def identity(**kwargs) -> mereo._mereo.NodeTemplate:
         frame (Frame): any frame
     Outputs:
         frame (Frame): the same frame
+    """
+def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    The dominant horizontal plane under the objects (the table) and the mask of the points above it.
+    
+    Inputs:
+        cloud (Cloud): organized XYZ cloud
+        normals (NormalMap): per-pixel normals
+        frame (Frame, optional): the frame; when it has a pose, gravity comes from it
+    Outputs:
+        plane (SupportPlane): normal, offset, polygon, inliers, world frame
+        roi (Mask): pixels above the plane, inside its polygon
+    Options:
+        seed (int, default 0, 0..1e+15): random seed of the plane hypotheses
+        epsilon (float, default 0.008, 0.0001..0.1): inlier distance at 1 m, metres
+        min_inliers (int, default 2000, 10..1e+07): fewest points of the plane
+        min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
+        max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
+        margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres
     """

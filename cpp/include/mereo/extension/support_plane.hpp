@@ -1,0 +1,72 @@
+// mereo/extension/support_plane.hpp: the dominant horizontal plane under the objects (the table),
+// its polygon, the region of interest above it, and a world frame with z up from it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mereo/core/camera.hpp"
+#include "mereo/core/image.hpp"
+
+namespace mereo::extension {
+
+/// 8-bit mask: non-zero = selected.
+using Mask = Image<std::uint8_t, 1>;
+
+struct SupportPlaneOptions {
+  std::uint64_t seed = 0;              ///< the only source of randomness (plane hypotheses)
+  /// Camera-frame direction against gravity, when known (e.g. from a pose); the plane's
+  /// normal must lie within max_tilt_deg of it. Unset: -y (the camera's up), with the wider
+  /// tolerance max_tilt_deg_unknown, for a camera looking down at a table.
+  std::optional<Eigen::Vector3d> up;
+  double max_tilt_deg = 15.0;
+  double max_tilt_deg_unknown = 75.0;
+  /// Inlier tolerance at 1 m (metres); it grows with z^2 like Kinect depth noise.
+  double epsilon = 0.008;
+  double normal_deviation_deg = 20.0;  ///< max angle between an inlier's normal and the plane's
+  int hypotheses = 200;                ///< plane hypotheses (a seed point and its normal)
+  int step = 4;                        ///< pixel grid step for scoring hypotheses
+  int min_inliers = 2000;              ///< fewest full-resolution inliers of a support plane
+  /// The region of interest: points between min_height and max_height above the plane whose
+  /// projection falls inside the polygon shrunk by `margin` (metres). min_height is its value
+  /// at 1 m and grows with z^2 beyond (depth noise), so that the table's own noisy points stay out.
+  double min_height = 0.006;
+  double max_height = 0.40;
+  double margin = 0.0;
+};
+
+/// The support plane of one frame. Geometry in metres, camera frame, unless it says world.
+struct SupportPlane {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, towards the camera (up)
+  double d = 0.0;                     ///< normal.dot(x) + d = 0 on the plane; > 0 above it
+  std::vector<Eigen::Vector3d> polygon;  ///< convex hull of the plane's region, on the plane
+  Mask inliers;                       ///< pixels of the plane (its largest connected region)
+  Mask roi;                           ///< pixels above the plane, inside the polygon
+  std::size_t inlier_count = 0;
+  double rms = 0.0;                   ///< RMS distance of the inliers to the plane, metres
+  /// World frame with z up from the table: origin = the inliers' centroid projected on the
+  /// plane, z = normal, x = the camera's x projected on the plane. x_world = world_from_camera * x.
+  Pose world_from_camera = Pose::Identity();
+
+  /// Signed height of x above the plane, metres.
+  double height(const Eigen::Vector3d& x) const { return normal.dot(x) + d; }
+};
+
+/// Finds the support plane in an organized cloud with normals (unit, towards the camera, NaN
+/// where undefined): RANSAC over one-point-and-normal hypotheses restricted to near-horizontal
+/// normals, scored on a pixel grid by the points within a depth-dependent distance and normal
+/// deviation, preferring the plane that holds the centre of the view (the table the camera
+/// looks at over the floor); the best is refitted by least squares (PCA) to its largest
+/// connected region, twice. Throws InputError when the sizes differ or no plane has
+/// min_inliers (an empty or all-NaN frame, a view without a table).
+SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
+                                const SupportPlaneOptions& options = {});
+
+/// The region of interest of `plane` in `cloud` (what find_support_plane puts in `roi`).
+Mask region_above(const Cloud& cloud, const SupportPlane& plane, double min_height,
+                  double max_height, double margin = 0.0);
+
+}  // namespace mereo::extension

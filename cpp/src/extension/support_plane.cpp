@@ -1,0 +1,252 @@
+// The support plane (the table) and the region of interest above it.
+#include "mereo/extension/support_plane.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "mereo/core/error.hpp"
+
+namespace mereo::extension {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+inline bool valid3(const float* p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && p[2] > 0.f;
+}
+
+/// Inlier tolerance at depth z: epsilon grows with z^2 (Kinect axial noise), never below
+/// its value at 0.7 m.
+inline double tolerance(double epsilon, double z) { return epsilon * std::max(z * z, 0.5); }
+
+struct Sample {
+  Eigen::Vector3f p, n;
+  bool central;
+};
+
+/// Full-resolution inliers of the plane (n, d), largest 4-connected region only.
+cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen::Vector3d& n,
+                      double d, double eps, double cos_dev) {
+  const int H = cloud.rows(), W = cloud.cols();
+  cv::Mat mask(H, W, CV_8U, cv::Scalar(0));
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      std::uint8_t* m = mask.ptr<std::uint8_t>(v);
+      for (int u = 0; u < W; ++u) {
+        const float* p = cloud.ptr(v, u);
+        const float* q = normals.ptr(v, u);
+        if (!valid3(p) || !std::isfinite(q[0])) continue;
+        const double dist = std::abs(n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d);
+        if (dist > tolerance(eps, p[2])) continue;
+        if (std::abs(n.x() * q[0] + n.y() * q[1] + n.z() * q[2]) < cos_dev) continue;
+        m[u] = 1;
+      }
+    }
+  });
+  cv::Mat labels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
+  int best = 0, best_area = 0;
+  for (int k = 1; k < count; ++k)
+    if (stats.at<int>(k, cv::CC_STAT_AREA) > best_area) best = k, best_area = stats.at<int>(k, cv::CC_STAT_AREA);
+  cv::Mat region = (labels == best) & (mask > 0);
+  return region;  // 255 where selected
+}
+
+/// PCA plane of the masked points: returns the RMS distance; n oriented with d > 0.
+double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, double& d,
+                 Eigen::Vector3d& centroid, std::size_t& count) {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d ss = Eigen::Matrix3d::Zero();
+  count = 0;
+  for (int v = 0; v < region.rows; ++v) {
+    const std::uint8_t* m = region.ptr<std::uint8_t>(v);
+    for (int u = 0; u < region.cols; ++u) {
+      if (!m[u]) continue;
+      const float* p = cloud.ptr(v, u);
+      const Eigen::Vector3d x(p[0], p[1], p[2]);
+      s += x;
+      ss += x * x.transpose();
+      ++count;
+    }
+  }
+  if (count < 3) return INFINITY;
+  centroid = s / double(count);
+  const Eigen::Matrix3d C = ss / double(count) - centroid * centroid.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+  n = es.eigenvectors().col(0).normalized();
+  d = -n.dot(centroid);
+  if (d < 0) n = -n, d = -d;
+  return std::sqrt(std::max(0.0, es.eigenvalues()(0)));
+}
+
+}  // namespace
+
+Mask region_above(const Cloud& cloud, const SupportPlane& plane, double min_height,
+                  double max_height, double margin) {
+  const int H = cloud.rows(), W = cloud.cols();
+  Mask roi(H, W, 0);
+  if (plane.polygon.size() < 3) return roi;
+  // the polygon in plane coordinates (world x, y), counter-clockwise
+  const Pose& T = plane.world_from_camera;
+  std::vector<Eigen::Vector2d> poly;
+  for (const auto& x : plane.polygon) poly.push_back((T * x).head<2>());
+  double area2 = 0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const auto& a = poly[i];
+    const auto& b = poly[(i + 1) % poly.size()];
+    area2 += a.x() * b.y() - a.y() * b.x();
+  }
+  if (area2 < 0) std::reverse(poly.begin(), poly.end());
+  const Eigen::Matrix3f R = T.linear().cast<float>();
+  const Eigen::Vector3f t = T.translation().cast<float>();
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      for (int u = 0; u < W; ++u) {
+        const float* p = cloud.ptr(v, u);
+        if (!valid3(p)) continue;
+        const Eigen::Vector3f w = R * Eigen::Vector3f(p[0], p[1], p[2]) + t;
+        if (w.z() < min_height * std::max(1.f, p[2] * p[2]) || w.z() > max_height) continue;
+        bool inside = true;
+        for (std::size_t i = 0; i < poly.size() && inside; ++i) {
+          const Eigen::Vector2d& a = poly[i];
+          const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - a;
+          const double len = e.norm();
+          if (len <= 0) continue;
+          const double side = (e.x() * (w.y() - a.y()) - e.y() * (w.x() - a.x())) / len;
+          inside = side >= margin;
+        }
+        if (inside) roi(v, u) = 1;
+      }
+    }
+  });
+  return roi;
+}
+
+SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
+                                const SupportPlaneOptions& o) {
+  if (!cloud.same_size(normals))
+    throw InputError("support plane: cloud " + std::to_string(cloud.cols()) + "x" +
+                     std::to_string(cloud.rows()) + " and normals " + std::to_string(normals.cols()) +
+                     "x" + std::to_string(normals.rows()) + " differ in size");
+  if (o.step < 1 || o.hypotheses < 1 || !(o.epsilon > 0) || o.max_height <= o.min_height)
+    throw InputError("support plane: step, hypotheses and epsilon must be positive and "
+                     "max_height > min_height");
+  const int H = cloud.rows(), W = cloud.cols();
+  Eigen::Vector3d up = o.up ? o.up->normalized() : Eigen::Vector3d(0, -1, 0);
+  const double cos_tilt = std::cos((o.up ? o.max_tilt_deg : o.max_tilt_deg_unknown) * kDeg);
+  const double cos_dev = std::cos(o.normal_deviation_deg * kDeg);
+
+  // grid samples with a valid point and normal
+  std::vector<Sample> samples;
+  for (int v = o.step / 2; v < H; v += o.step)
+    for (int u = o.step / 2; u < W; u += o.step) {
+      const float* p = cloud.ptr(v, u);
+      const float* n = normals.ptr(v, u);
+      if (!valid3(p) || !std::isfinite(n[0])) continue;
+      const bool central = std::abs(u - W / 2) < W / 4 && std::abs(v - H / 2) < H / 4;
+      samples.push_back({Eigen::Vector3f(p[0], p[1], p[2]), Eigen::Vector3f(n[0], n[1], n[2]), central});
+    }
+  const std::size_t min_grid = std::size_t(o.min_inliers) / std::size_t(o.step * o.step);
+  if (samples.size() < std::max<std::size_t>(min_grid, 3))
+    throw InputError("support plane: too few valid points (" + std::to_string(samples.size()) +
+                     " on the grid); the frame is empty or all NaN");
+
+  // hypotheses: seed samples whose normal is near `up` (drawn in order from the seed)
+  std::vector<int> seeds;
+  std::mt19937_64 rng(o.seed);
+  std::uniform_int_distribution<std::size_t> pick(0, samples.size() - 1);
+  for (int tries = 0; tries < o.hypotheses * 20 && int(seeds.size()) < o.hypotheses; ++tries) {
+    const std::size_t i = pick(rng);
+    if (samples[i].n.cast<double>().dot(up) >= cos_tilt) seeds.push_back(int(i));
+  }
+  if (seeds.empty())
+    throw InputError("support plane: no surface faces up (within the tilt limit); no table in view");
+  std::vector<double> score(seeds.size(), 0.0);
+  std::vector<std::size_t> support(seeds.size(), 0);
+  const float eps = float(o.epsilon), cdev = float(cos_dev);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, seeds.size(), 4),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t h = r.begin(); h < r.end(); ++h) {
+                        const Sample& s = samples[std::size_t(seeds[h])];
+                        const Eigen::Vector3f n = s.n;
+                        const float d = -n.dot(s.p);
+                        std::size_t all = 0, central = 0;
+                        for (const Sample& x : samples) {
+                          const float z = x.p.z();
+                          if (std::abs(n.dot(x.p) + d) > eps * std::max(z * z, 0.5f)) continue;
+                          if (std::abs(n.dot(x.n)) < cdev) continue;
+                          ++all;
+                          central += x.central;
+                        }
+                        support[h] = all;
+                        score[h] = double(all) + 3.0 * double(central);
+                      }
+                    });
+  const std::size_t best = std::size_t(std::max_element(score.begin(), score.end()) - score.begin());
+  if (support[best] < min_grid)
+    throw InputError("support plane: the best plane has " + std::to_string(support[best] * o.step * o.step) +
+                     " points, fewer than min_inliers = " + std::to_string(o.min_inliers));
+
+  SupportPlane out;
+  Eigen::Vector3d n = samples[std::size_t(seeds[best])].n.cast<double>().normalized();
+  double d = -n.dot(samples[std::size_t(seeds[best])].p.cast<double>());
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  cv::Mat region;
+  std::size_t count = 0;
+  for (int round = 0; round < 3; ++round) {
+    region = inlier_region(cloud, normals, n, d, round == 0 ? o.epsilon : 0.75 * o.epsilon, cos_dev);
+    out.rms = fit_plane(cloud, region, n, d, centroid, count);
+  }
+  if (count < std::size_t(o.min_inliers))
+    throw InputError("support plane: the plane's region has " + std::to_string(count) +
+                     " points, fewer than min_inliers = " + std::to_string(o.min_inliers));
+  out.normal = n;
+  out.d = d;
+  out.inlier_count = count;
+  out.inliers = Mask(H, W, 0);
+  for (int v = 0; v < H; ++v) {
+    const std::uint8_t* m = region.ptr<std::uint8_t>(v);
+    for (int u = 0; u < W; ++u) out.inliers(v, u) = m[u] ? 1 : 0;
+  }
+
+  // world frame: z = normal, x = camera x projected on the plane, origin = centroid on the plane
+  const Eigen::Vector3d origin = centroid - n * (n.dot(centroid) + d);
+  Eigen::Vector3d ex = Eigen::Vector3d::UnitX() - n * n.x();
+  if (ex.norm() < 1e-6) ex = Eigen::Vector3d::UnitY() - n * n.y();
+  ex.normalize();
+  const Eigen::Vector3d ey = n.cross(ex);
+  Eigen::Matrix3d camera_from_world;
+  camera_from_world << ex, ey, n;
+  Pose T = Pose::Identity();
+  T.linear() = camera_from_world.transpose();
+  T.translation() = -camera_from_world.transpose() * origin;
+  out.world_from_camera = T;
+
+  // polygon: convex hull of the region in plane coordinates
+  std::vector<cv::Point2f> pts;
+  pts.reserve(count);
+  for (int v = 0; v < H; ++v) {
+    const std::uint8_t* m = region.ptr<std::uint8_t>(v);
+    for (int u = 0; u < W; ++u) {
+      if (!m[u]) continue;
+      const float* p = cloud.ptr(v, u);
+      const Eigen::Vector3d w = T * Eigen::Vector3d(p[0], p[1], p[2]);
+      pts.emplace_back(float(w.x()), float(w.y()));
+    }
+  }
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(pts, hull, /*clockwise=*/false);
+  const Pose C = T.inverse();
+  for (const auto& h : hull) out.polygon.push_back(C * Eigen::Vector3d(h.x, h.y, 0.0));
+  out.roi = region_above(cloud, out, o.min_height, o.max_height, o.margin);
+  return out;
+}
+
+}  // namespace mereo::extension

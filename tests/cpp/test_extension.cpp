@@ -1,0 +1,298 @@
+// The extension layer: normals against exact normals (synthetic frames, analytic shapes, a
+// depth step), the depth filter, and the support plane against ground truth (synthetic frames)
+// and a least-squares fit to the labelled table points (the real mOSD frames).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "mereo/core/error.hpp"
+#include "mereo/extension/normals.hpp"
+#include "mereo/extension/projection.hpp"
+#include "mereo/extension/support_plane.hpp"
+#include "mereo/io/io.hpp"
+#include "mereo/signal/depth_filter.hpp"
+#include "mereo/synthetic/scene.hpp"
+
+namespace fs = std::filesystem;
+using namespace mereo;
+using extension::NormalMethod;
+
+namespace {
+
+const std::string kReal = MEREO_REAL_DATA;
+constexpr double kDeg = M_PI / 180.0;
+
+double angle_deg(const float* a, const float* b) {
+  const double c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  return std::acos(std::clamp(c, -1.0, 1.0)) / kDeg;
+}
+double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) / kDeg;
+}
+
+/// Pixels inside one part whose 7x7 neighbourhood in the clean render lies on that same part
+/// (smooth surface, away from depth edges and part boundaries).
+std::vector<int> smooth_pixels(const synthetic::GroundTruth& t, int r = 3) {
+  std::vector<int> out;
+  const int H = t.parts.rows(), W = t.parts.cols();
+  for (int v = r; v < H - r; v += 2)
+    for (int u = r; u < W - r; u += 2) {
+      const auto label = t.parts(v, u);
+      if (!label || !(t.depth(v, u) > 0)) continue;
+      bool same = true;
+      for (int dv = -r; dv <= r && same; ++dv)
+        for (int du = -r; du <= r && same; ++du) same = t.parts(v + dv, u + du) == label;
+      if (same) out.push_back(v * W + u);
+    }
+  return out;
+}
+
+/// A synthetic cloud: rows*cols pixels seeing z = f(u, v) through the Kinect intrinsics.
+template <typename F>
+Cloud make_cloud(int rows, int cols, F depth) {
+  DepthImage d(rows, cols, kNaN);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u) d(v, u) = float(depth(u, v));
+  return extension::back_project(d, Intrinsics::kinect_vga());
+}
+
+}  // namespace
+
+TEST(Normals, SmoothSurfacesOfNoisyFramesGetAccurateNormals) {
+  for (const auto method : {NormalMethod::Fast, NormalMethod::Covariance}) {
+    std::size_t total = 0, with = 0;
+    std::vector<double> errors;
+    std::vector<double> clean_errors;
+    for (std::uint64_t seed : {101, 102, 103, 104}) {
+      const auto sf = synthetic::render(seed);
+      synthetic::SceneOptions quiet;
+      quiet.noise = false;
+      const auto clean = synthetic::render(seed, quiet);
+      const Cloud cloud = extension::back_project(sf.frame);
+      extension::NormalOptions o;
+      o.method = method;
+      const NormalMap n = extension::estimate_normals(cloud, o);
+      for (int i : smooth_pixels(sf.truth)) {
+        const int v = i / cloud.cols(), u = i % cloud.cols();
+        if (!std::isfinite(cloud(v, u, 2))) continue;  // no depth (noise model)
+        ++total;
+        if (!std::isfinite(n(v, u, 0))) continue;
+        ++with;
+        errors.push_back(angle_deg(n.ptr(v, u), sf.truth.normals.ptr(v, u)));
+      }
+      // without noise the same method is exact up to curvature within the window
+      const NormalMap nc = extension::estimate_normals(extension::back_project(clean.frame), o);
+      for (int i : smooth_pixels(clean.truth))
+        clean_errors.push_back(angle_deg(nc.ptr(i / nc.cols(), i % nc.cols()), clean.truth.normals.ptr(i / nc.cols(), i % nc.cols())));
+    }
+    ASSERT_GT(total, 10000u);
+    const double share = double(with) / double(total);
+    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+    const double median = errors[errors.size() / 2];
+    std::nth_element(clean_errors.begin(), clean_errors.begin() + clean_errors.size() / 2, clean_errors.end());
+    const double clean_median = clean_errors[clean_errors.size() / 2];
+    std::printf("[ normals  ] %s: %.2f%% of smooth pixels with a normal, median error %.2f deg "
+                "(noisy), %.3f deg (clean)\n",
+                method == NormalMethod::Fast ? "fast" : "covariance", 100 * share, median, clean_median);
+    EXPECT_GE(share, 0.95);
+    EXPECT_LT(median, 15.0);  // Kinect-like noise at 5 px; the benchmark compares with PCL and OpenCV
+    EXPECT_LT(clean_median, 0.5);
+  }
+}
+
+TEST(Normals, ExactOnAnalyticPlaneAndSphere) {
+  // a tilted plane z = 1 + 0.3 x (exact normals everywhere but at the border)
+  const Eigen::Vector3d n_plane = Eigen::Vector3d(0.3, 0, -1).normalized();
+  const Cloud plane = make_cloud(120, 160, [](int u, int) {
+    const double a = (u - 319.5) / 525.0;  // x = a z, z = 1 + 0.3 a z
+    return 1.0 / (1.0 - 0.3 * a);
+  });
+  // a sphere of radius 0.3 m centred at (0, 0, 1.2), seen from the origin
+  const Cloud sphere = make_cloud(480, 640, [](int u, int v) {
+    const Eigen::Vector3d ray((u - 319.5) / 525.0, (v - 239.5) / 525.0, 1.0);
+    const Eigen::Vector3d c(0, 0, 1.2);
+    const double a = ray.squaredNorm(), b = -2 * ray.dot(c), cc = c.squaredNorm() - 0.09;
+    const double disc = b * b - 4 * a * cc;
+    return disc < 0 ? NAN : (-b - std::sqrt(disc)) / (2 * a);
+  });
+  for (const auto method : {NormalMethod::Fast, NormalMethod::Covariance}) {
+    extension::NormalOptions o;
+    o.method = method;
+    const NormalMap np = extension::estimate_normals(plane, o);
+    for (int v = 10; v < 110; v += 7)
+      for (int u = 10; u < 150; u += 7) {
+        const float e[3] = {float(n_plane.x()), float(n_plane.y()), float(n_plane.z())};
+        EXPECT_LT(angle_deg(np.ptr(v, u), e), 0.05) << v << "," << u;
+      }
+    const NormalMap ns = extension::estimate_normals(sphere, o);
+    double worst = 0;
+    int count = 0;
+    for (int v = 0; v < 480; v += 5)
+      for (int u = 0; u < 640; u += 5) {
+        const float* p = sphere.ptr(v, u);
+        if (!std::isfinite(p[2])) continue;
+        const Eigen::Vector3d x(p[0], p[1], p[2]);
+        const Eigen::Vector3d truth = (x - Eigen::Vector3d(0, 0, 1.2)).normalized();
+        if (-truth.z() < 0.5) continue;  // grazing rim: the window spans a large arc
+        const float t[3] = {float(truth.x()), float(truth.y()), float(truth.z())};
+        ASSERT_TRUE(std::isfinite(ns(v, u, 0))) << v << "," << u;
+        worst = std::max(worst, angle_deg(ns.ptr(v, u), t));
+        ++count;
+      }
+    EXPECT_GT(count, 1000);
+    EXPECT_LT(worst, 1.5);
+  }
+}
+
+TEST(Normals, NoNormalMixesTheTwoSidesOfADepthStep) {
+  // left half: the plane z = 1.0 facing the camera; right half: a plane tilted by 40 degrees
+  // about the vertical, 8 cm further away at the step (a jump of 8% of z).
+  const double t = std::tan(40 * kDeg);
+  const Cloud cloud = make_cloud(120, 200, [t](int u, int) {
+    const double a = (u - 319.5) / 525.0;
+    if (u < 100) return 1.0;
+    const double a0 = (100 - 319.5) / 525.0;  // z = 1.08 + t (x - x0) along the ray
+    return (1.08 - t * a0 * 1.08) / (1.0 - t * a);
+  });
+  const float left[3] = {0, 0, -1};
+  const Eigen::Vector3d nr = Eigen::Vector3d(t, 0, -1).normalized();
+  const float right[3] = {float(nr.x()), float(nr.y()), float(nr.z())};
+  for (const auto method : {NormalMethod::Fast, NormalMethod::Covariance}) {
+    for (int window : {5, 9}) {
+      extension::NormalOptions o;
+      o.method = method;
+      o.window = window;
+      o.adaptive_window = false;
+      const NormalMap n = extension::estimate_normals(cloud, o);
+      for (int v = 10; v < 110; ++v)
+        for (int u = 90; u < 110; ++u) {
+          ASSERT_TRUE(std::isfinite(n(v, u, 0))) << "pixel " << v << "," << u;
+          EXPECT_LT(angle_deg(n.ptr(v, u), u < 100 ? left : right), 0.5)
+              << "pixel " << v << "," << u << " window " << window;
+        }
+    }
+  }
+}
+
+TEST(Normals, BadOptionsAndEmptyInput) {
+  extension::NormalOptions o;
+  o.window = 4;
+  EXPECT_THROW(extension::estimate_normals(Cloud(4, 4, 1.f), o), InputError);
+  EXPECT_THROW(extension::normal_method("sobel"), InputError);
+  const NormalMap n = extension::estimate_normals(Cloud(30, 40, kNaN));
+  for (std::size_t i = 0; i < n.size(); ++i) EXPECT_TRUE(std::isnan(n.data()[i]));
+}
+
+TEST(DepthFilter, ReducesNoiseAndKeepsStepsSharp) {
+  const auto sf = synthetic::render(105);
+  const DepthImage filtered = signal::filter_depth(sf.frame.depth);
+  double e0 = 0, e1 = 0;
+  std::size_t n = 0;
+  for (int i : smooth_pixels(sf.truth)) {
+    const float z0 = sf.frame.depth.data()[i], z1 = filtered.data()[i], zt = sf.truth.depth.data()[i];
+    if (!(z0 > 0)) continue;
+    ASSERT_TRUE(z1 > 0);
+    e0 += (z0 - zt) * (z0 - zt);
+    e1 += (z1 - zt) * (z1 - zt);
+    ++n;
+  }
+  ASSERT_GT(n, 10000u);
+  std::printf("[ filter   ] RMS depth error on smooth surfaces: %.2f mm -> %.2f mm\n",
+              1000 * std::sqrt(e0 / n), 1000 * std::sqrt(e1 / n));
+  EXPECT_LT(e1, 0.7 * e0);
+  // a step of 10 cm at 1 m stays a step: no pixel takes a value in between
+  DepthImage step(20, 40, 1.0f);
+  for (int v = 0; v < 20; ++v)
+    for (int u = 20; u < 40; ++u) step(v, u) = 1.1f;
+  const DepthImage s = signal::filter_depth(step);
+  for (int v = 0; v < 20; ++v)
+    for (int u = 0; u < 40; ++u) EXPECT_FLOAT_EQ(s(v, u), u < 20 ? 1.0f : 1.1f);
+  // missing stays missing
+  step(5, 5) = kNaN;
+  EXPECT_TRUE(std::isnan(signal::filter_depth(step)(5, 5)));
+}
+
+TEST(SupportPlane, FoundOnEverySyntheticFrameWithinOneDegree) {
+  for (std::uint64_t seed = 200; seed < 212; ++seed) {
+    const auto sf = synthetic::render(seed);
+    const Cloud cloud = extension::back_project(sf.frame);
+    const NormalMap normals = extension::estimate_normals(cloud);
+    const Eigen::Vector3d truth = sf.truth.camera_pose.linear().transpose() * Eigen::Vector3d::UnitZ();
+    // without a gravity hint and with the frame's pose as the hint
+    for (bool hint : {false, true}) {
+      extension::SupportPlaneOptions o;
+      if (hint) o.up = truth;
+      const auto plane = extension::find_support_plane(cloud, normals, o);
+      EXPECT_LT(angle_deg(plane.normal, truth), 1.0) << "seed " << seed << " hint " << hint;
+      // the table top is at world z = 0: the plane passes through the camera-frame origin of it
+      const Eigen::Vector3d table_origin = sf.truth.camera_pose.inverse() * Eigen::Vector3d::Zero();
+      EXPECT_LT(std::abs(plane.height(table_origin)), 0.01) << "seed " << seed;
+      // the ROI holds most pixels of the objects on the table and none of the table top
+      std::size_t object_pixels = 0, object_in_roi = 0, table_in_roi = 0, table_pixels = 0;
+      for (int v = 0; v < cloud.rows(); ++v)
+        for (int u = 0; u < cloud.cols(); ++u) {
+          if (!std::isfinite(cloud(v, u, 2))) continue;
+          const auto* obj = sf.truth.object(sf.truth.objects(v, u));
+          if (!obj) continue;
+          const bool on_table = obj->model != "table" && obj->model != "floor" && obj->model != "wall";
+          if (on_table) ++object_pixels, object_in_roi += plane.roi(v, u) != 0;
+          if (obj->model == "table" && obj->part("top") &&
+              sf.truth.parts(v, u) == obj->part("top")->label)
+            table_in_roi += plane.roi(v, u) != 0, ++table_pixels;
+        }
+      EXPECT_GT(double(object_in_roi), 0.9 * double(object_pixels)) << "seed " << seed;
+      EXPECT_LT(table_in_roi, 200u + table_pixels / 500) << "seed " << seed;
+      // world frame: z up, the table's points at height ~0
+      EXPECT_LT(angle_deg(plane.world_from_camera.linear().transpose() * Eigen::Vector3d::UnitZ(), truth), 1.0);
+    }
+  }
+}
+
+TEST(SupportPlane, FoundOnEveryRealMosdFrameWithinTwoDegreesOfTheLabelledTable) {
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(kReal + "/pcl-mosd")) {
+    if (entry.path().extension() != ".pcd") continue;
+    ++files;
+    const Frame f = io::read(entry.path().string());
+    const Cloud cloud = extension::back_project(f);
+    const auto plane = extension::find_support_plane(cloud, extension::estimate_normals(cloud));
+    // reference: least-squares (PCA) plane of the points labelled 1-9 (the table)
+    Eigen::Vector3d s = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d ss = Eigen::Matrix3d::Zero();
+    std::size_t n = 0;
+    for (int v = 0; v < cloud.rows(); ++v)
+      for (int u = 0; u < cloud.cols(); ++u) {
+        const auto label = f.labels(v, u);
+        if (label < 1 || label > 9 || !std::isfinite(cloud(v, u, 2))) continue;
+        const Eigen::Vector3d x(cloud(v, u, 0), cloud(v, u, 1), cloud(v, u, 2));
+        s += x, ss += x * x.transpose(), ++n;
+      }
+    ASSERT_GT(n, 1000u);
+    const Eigen::Vector3d c = s / double(n);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(ss / double(n) - c * c.transpose());
+    Eigen::Vector3d ref = es.eigenvectors().col(0);
+    if (ref.dot(plane.normal) < 0) ref = -ref;
+    const double err = angle_deg(plane.normal, ref);
+    std::printf("[ mosd     ] %-12s table normal error %.2f deg, %zu inliers\n",
+                entry.path().filename().c_str(), err, plane.inlier_count);
+    EXPECT_LT(err, 2.0) << entry.path();
+  }
+  EXPECT_EQ(files, 24);
+}
+
+TEST(SupportPlane, ClearErrors) {
+  EXPECT_THROW(extension::find_support_plane(Cloud(48, 64, kNaN), NormalMap(48, 64, kNaN)), InputError);
+  EXPECT_THROW(extension::find_support_plane(Cloud(48, 64, kNaN), NormalMap(40, 64, kNaN)), InputError);
+  // a wall facing the camera is not a support plane
+  const Cloud wall = make_cloud(240, 320, [](int, int) { return 1.5; });
+  try {
+    extension::find_support_plane(wall, extension::estimate_normals(wall));
+    FAIL() << "a vertical wall was taken for a table";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("support plane"), std::string::npos);
+  }
+}

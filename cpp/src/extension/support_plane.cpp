@@ -200,7 +200,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   cv::Mat region;
   std::size_t count = 0;
-  for (int round = 0; round < 3; ++round) {
+  for (int round = 0; round < 2; ++round) {
     region = inlier_region(cloud, normals, n, d, round == 0 ? o.epsilon : 0.75 * o.epsilon, cos_dev);
     out.rms = fit_plane(cloud, region, n, d, centroid, count);
   }
@@ -229,13 +229,20 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   T.translation() = -camera_from_world.transpose() * origin;
   out.world_from_camera = T;
 
-  // polygon: convex hull of the region in plane coordinates
+  // polygon: convex hull of the region in plane coordinates. The image and the plane are related
+  // by a homography, which maps convex sets to convex sets, so the hull is that of the first and
+  // last region pixel of every row (at most 2 H points instead of the whole region).
   std::vector<cv::Point2f> pts;
-  pts.reserve(count);
   for (int v = 0; v < H; ++v) {
     const std::uint8_t* m = region.ptr<std::uint8_t>(v);
-    for (int u = 0; u < W; ++u) {
-      if (!m[u]) continue;
+    int first = -1, last = -1;
+    for (int u = 0; u < W; ++u)
+      if (m[u]) {
+        if (first < 0) first = u;
+        last = u;
+      }
+    if (first < 0) continue;
+    for (int u : {first, last}) {
       const float* p = cloud.ptr(v, u);
       const Eigen::Vector3d w = T * Eigen::Vector3d(p[0], p[1], p[2]);
       pts.emplace_back(float(w.x()), float(w.y()));

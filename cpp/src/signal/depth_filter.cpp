@@ -26,13 +26,19 @@ DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
       ws[std::size_t(dv + r) * (2 * r + 1) + (du + r)] =
           float(std::exp(-(du * du + dv * dv) / (2 * o.sigma_space * o.sigma_space)));
   const float sd = float(o.sigma_depth), cut = float(o.depth_change_factor);
+  // range weights exp(-x), x = dz^2 / (2 sigma_r^2) in [0, 8), from a table of 512 steps (the
+  // weight beyond x = 8 is below 0.0004 and taken as 0)
+  constexpr int kSteps = 512;
+  constexpr float kMaxX = 8.f, kScale = kSteps / kMaxX;
+  std::vector<float> range_lut(kSteps + 1);
+  for (int i = 0; i <= kSteps; ++i) range_lut[i] = i == kSteps ? 0.f : float(std::exp(-(i + 0.5) / kScale));
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
       const int v0 = std::max(0, v - r), v1 = std::min(H - 1, v + r);
       for (int u = 0; u < W; ++u) {
         const float z = depth(v, u);
         if (!(z > 0.f)) continue;
-        const float sr = sd * z * z, inv = -0.5f / (sr * sr), t = cut * z;
+        const float sr = sd * z * z, inv = kScale * 0.5f / (sr * sr), t = cut * z;
         const int u0 = std::max(0, u - r), u1 = std::min(W - 1, u + r);
         float sw = 0.f, sz = 0.f;
         for (int vv = v0; vv <= v1; ++vv) {
@@ -42,7 +48,8 @@ DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
             const float q = row[uu];
             const float dz = q - z;
             if (!(q > 0.f) || std::abs(dz) > t) continue;
-            const float w = wrow[uu - u] * std::exp(dz * dz * inv);
+            const int bin = int(std::min(dz * dz * inv, float(kSteps)));
+            const float w = wrow[uu - u] * range_lut[bin];
             sw += w;
             sz += w * q;
           }

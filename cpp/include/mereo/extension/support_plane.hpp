@@ -28,7 +28,7 @@ struct SupportPlaneOptions {
   double epsilon = 0.008;
   double normal_deviation_deg = 20.0;  ///< max angle between an inlier's normal and the plane's
   int hypotheses = 200;                ///< plane hypotheses (a seed point and its normal)
-  int step = 4;                        ///< pixel grid step for scoring hypotheses
+  int step = 6;                        ///< pixel grid step for scoring hypotheses
   int min_inliers = 2000;              ///< fewest full-resolution inliers of a support plane
   /// The region of interest: points between min_height and max_height above the plane whose
   /// projection falls inside the polygon shrunk by `margin` (metres). min_height is its value

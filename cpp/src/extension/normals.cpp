@@ -30,8 +30,11 @@ inline bool valid_point(const float* p) {
 }
 
 /// Capped L-infinity distance (in pixels, <= cap) of every pixel to the nearest edge pixel;
-/// outside the image counts as edge. Edge pixels have distance 0.
-std::vector<std::uint8_t> edge_distance(const Cloud& cloud, double factor, int cap) {
+/// outside the image counts as edge. Edge pixels have distance 0. An edge pixel is a point with
+/// a valid 4-neighbour further than factor * z in depth; with `missing_is_edge`, also a missing
+/// point or one with a missing 4-neighbour.
+std::vector<std::uint8_t> edge_distance(const Cloud& cloud, double factor, int cap,
+                                        bool missing_is_edge) {
   const int H = cloud.rows(), W = cloud.cols();
   std::vector<std::uint8_t> h(std::size_t(H) * W), dist(std::size_t(H) * W);
   const float f = float(factor);
@@ -45,13 +48,17 @@ std::vector<std::uint8_t> edge_distance(const Cloud& cloud, double factor, int c
       for (int u = 0; u < W; ++u) {
         const float* p = row + 3 * u;
         if (!valid_point(p)) {
-          edge[u] = 1;
+          edge[u] = missing_is_edge;
           continue;
         }
         const float z = p[2], t = f * z;
         bool e = false;
         auto check = [&](const float* q) {
-          if (!valid_point(q) || std::abs(q[2] - z) > t) e = true;
+          if (!valid_point(q)) {
+            e = e || missing_is_edge;
+          } else if (std::abs(q[2] - z) > t) {
+            e = true;
+          }
         };
         if (u > 0) check(p - 3);
         if (u + 1 < W) check(p + 3);
@@ -175,15 +182,19 @@ void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalO
   const int u0 = std::max(0, u - r), u1 = std::min(cloud.cols() - 1, u + r);
   float N = 0, Su = 0, Sv = 0, Suu = 0, Suv = 0, Svv = 0;
   float sc[3] = {0, 0, 0}, su[3] = {0, 0, 0}, sv[3] = {0, 0, 0};
+  // branch-free (the accepted points of an edge window are unpredictable): a rejected or
+  // missing point contributes zeros
   for (int vv = v0; vv <= v1; ++vv) {
     const float* q = cloud.ptr(vv, u0);
     const float dv = float(vv - v);
     for (int uu = u0; uu <= u1; ++uu, q += 3) {
-      if (!(std::abs(q[2] - c[2]) <= t)) continue;  // also false for a missing (NaN) point
+      const bool in = std::abs(q[2] - c[2]) <= t;  // also false for a missing (NaN) point
+      const float m = in ? 1.f : 0.f;
       const float du = float(uu - u);
-      N += 1, Su += du, Sv += dv, Suu += du * du, Suv += du * dv, Svv += dv * dv;
+      const float mu = m * du, mv = m * dv;
+      N += m, Su += mu, Sv += mv, Suu += mu * du, Suv += mu * dv, Svv += mv * dv;
       for (int k = 0; k < 3; ++k) {
-        const float x = q[k] - c[k];
+        const float x = in ? q[k] - c[k] : 0.f;
         sc[k] += x, su[k] += du * x, sv[k] += dv * x;
       }
     }
@@ -427,10 +438,12 @@ void covariance_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& o
   const int H = cloud.rows(), W = cloud.cols();
   const int smax = o.adaptive_window ? 2 * o.window + 1 : o.window;
   const int rmax = smax / 2;
-  const auto dist = edge_distance(cloud, o.depth_change_factor, std::min(rmax + 1, 255));
+  // Like PCL's integral-image normals, missing points only leave the sums (a count channel
+  // divides them out); windows shrink at depth jumps only.
+  const auto dist = edge_distance(cloud, o.depth_change_factor, std::min(rmax + 1, 255), false);
   const int block = std::max(32, 4 * rmax);
   const int blocks = (H + block - 1) / block;
-  constexpr int C = 9;  // x y z xx xy xz yy yz zz
+  constexpr int C = 10;  // n x y z xx xy xz yy yz zz
   const int stride = (W + 1) * C;
   tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& br) {
     std::vector<double> ii;
@@ -444,14 +457,14 @@ void covariance_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& o
         const float* row = cloud.ptr(y, 0);
         const double* prev = ii.data() + std::size_t(y - ya) * stride;
         double* cur = ii.data() + std::size_t(y - ya + 1) * stride;
-        double run[C] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        double run[C] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
         for (int u = 0; u < W; ++u) {
           const float* p = row + 3 * u;
           if (valid_point(p)) {
             const double x = p[0], yy = p[1], z = p[2];
-            run[0] += x, run[1] += yy, run[2] += z;
-            run[3] += x * x, run[4] += x * yy, run[5] += x * z;
-            run[6] += yy * yy, run[7] += yy * z, run[8] += z * z;
+            run[0] += 1, run[1] += x, run[2] += yy, run[3] += z;
+            run[4] += x * x, run[5] += x * yy, run[6] += x * z;
+            run[7] += yy * yy, run[8] += yy * z, run[9] += z * z;
           }
           double* c = cur + (u + 1) * C;
           const double* pc = prev + (u + 1) * C;
@@ -485,12 +498,16 @@ void covariance_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& o
           const double *c = t1 + (u - r) * C, *dd = t1 + (u + r + 1) * C;
           double s[C];
           for (int k = 0; k < C; ++k) s[k] = dd[k] - c[k] - bb[k] + a[k];
-          const double in = 1.0 / double((2 * r + 1) * (2 * r + 1));
-          const double mx = s[0] * in, my = s[1] * in, mz = s[2] * in;
+          if (s[0] < std::max(3, o.min_points)) {
+            n[0] = n[1] = n[2] = kNaN;
+            continue;
+          }
+          const double in = 1.0 / s[0];
+          const double mx = s[1] * in, my = s[2] * in, mz = s[3] * in;
           double e[3];
-          if (smallest_eigenvector(s[3] * in - mx * mx, s[4] * in - mx * my, s[5] * in - mx * mz,
-                                   s[6] * in - my * my, s[7] * in - my * mz,
-                                   s[8] * in - mz * mz, e))
+          if (smallest_eigenvector(s[4] * in - mx * mx, s[5] * in - mx * my, s[6] * in - mx * mz,
+                                   s[7] * in - my * my, s[8] * in - my * mz,
+                                   s[9] * in - mz * mz, e))
             store_normal(e[0], e[1], e[2], p, n);
           else
             n[0] = n[1] = n[2] = kNaN;

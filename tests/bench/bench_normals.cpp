@@ -31,9 +31,12 @@
 #include "mereo/extension/projection.hpp"
 #include "mereo/io/io.hpp"
 #include "mereo/synthetic/scene.hpp"
+#include "bench_util.hpp"
 
 namespace fs = std::filesystem;
 using namespace mereo;
+using bench::median;
+using bench::now_ms;
 
 namespace {
 
@@ -58,16 +61,7 @@ struct Method {
   std::size_t valid_in = 0, valid_out = 0;
 };
 
-double now_ms() {
-  using namespace std::chrono;
-  return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
-}
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 NormalMap from_mat(const cv::Mat& m) {
   NormalMap n(m.rows, m.cols, kNaN);

@@ -32,21 +32,15 @@
 #include "mereo/io/io.hpp"
 #include "mereo/signal/depth_filter.hpp"
 #include "mereo/synthetic/scene.hpp"
+#include "bench_util.hpp"
 
 namespace fs = std::filesystem;
 using namespace mereo;
+using bench::median;
+using bench::now_ms;
 
 namespace {
 
-double now_ms() {
-  using namespace std::chrono;
-  return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
-}
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 double angle_deg(Eigen::Vector3d a, Eigen::Vector3d b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 / M_PI;
 }

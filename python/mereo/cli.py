@@ -65,6 +65,31 @@ def _summarize_truth(sf) -> list[str]:
     return lines
 
 
+def _demo_extension(sf, out: Path) -> None:
+    """The extension layer on the demo frame: estimated normals and the support plane, against
+    the exact ground truth, and a picture (colour | estimated normals | region above the table)."""
+    from . import extension
+
+    f = sf.frame
+    cloud = extension.back_project(f)
+    normals = extension.estimate_normals(cloud, method="fast")
+    ok = np.isfinite(normals[..., 0]) & np.isfinite(sf.truth.normals[..., 0])
+    cos = np.abs(np.einsum("ij,ij->i", normals[ok], sf.truth.normals[ok]))
+    err = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    share = ok.sum() / max(1, np.isfinite(cloud[..., 2]).sum())
+    print(f"normals (fast): {share:.1%} of valid pixels, median error {np.median(err):.1f} deg against the exact normals")
+    plane = extension.find_support_plane(cloud, normals)
+    up = np.asarray(f.pose)[:3, :3].T @ np.array([0.0, 0.0, 1.0])
+    tilt = np.degrees(np.arccos(np.clip(plane.normal @ up, -1.0, 1.0)))
+    print(f"support plane: {plane.inlier_count} table points, normal {tilt:.2f} deg from the truth, "
+          f"{int(plane.roi.sum())} pixels above it (the region searched for objects)")
+    roi = plane.roi.astype(bool)[..., None]
+    shown = np.where(roi, f.color, f.color // 3).astype(np.uint8)
+    path = out / "extension.png"
+    io.write_image(str(path), io.hstack([f.color, io.colorize_normals(normals), shown]))
+    print(f"wrote {path} (colour | estimated normals | above the table)")
+
+
 def cmd_demo(args) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -79,6 +104,7 @@ def cmd_demo(args) -> int:
     _write_synthetic(sf, out, "0000")
     preview = save_preview(out / "preview.png", f, sf.truth)
     print(f"wrote {out}/0000_rgb.png, 0000_depth.png, 0000_truth.json and {preview} (colour | depth | normals | objects)")
+    _demo_extension(sf, out)
     print("recognition is not built yet: see the open issues; `mereo render` writes more frames")
     return 0
 

@@ -86,3 +86,19 @@ def test_extension_nodes_in_a_graph(scene):
     assert r["outputs"]["normals.normals"].shape == (480, 640, 3)
     with pytest.raises(mereo.GraphError, match="option 'window' = 1 is outside its range"):
         mereo.nodes.estimate_normals(window=1)
+
+
+def test_demo_runs_the_extension_layer_against_the_truth(tmp_path):
+    """The README's main command: the default scene, its ground truth, normals and table plane."""
+    import re
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "mereo.cli", "demo", "--out", str(tmp_path)],
+                         capture_output=True, text=True, check=True).stdout
+    tilt = float(re.search(r"support plane: \d+ table points, normal ([0-9.]+) deg", out).group(1))
+    assert tilt < 1.0
+    share = float(re.search(r"normals \(fast\): ([0-9.]+)% of valid pixels", out).group(1))
+    assert share > 95
+    assert (tmp_path / "extension.png").stat().st_size > 10000
+    assert (tmp_path / "preview.png").is_file()

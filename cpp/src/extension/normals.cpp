@@ -25,6 +25,16 @@
 namespace mereo::extension {
 namespace {
 
+/// The depth difference that counts as a discontinuity at depth z: depth_change_factor * z, growing
+/// as z^2 beyond noise_depth (structured-light noise grows with z^2, Khoshelham and Elberink 2012),
+/// so that far, noisy surfaces are not broken into pieces.
+struct JumpThreshold {
+  float factor, inv_noise_depth;
+  explicit JumpThreshold(const NormalOptions& o)
+      : factor(float(o.depth_change_factor)), inv_noise_depth(float(1.0 / o.noise_depth)) {}
+  float operator()(float z) const { return factor * z * std::max(1.f, z * inv_noise_depth); }
+};
+
 inline bool valid_point(const float* p) {
   return p[2] > 0.f && std::isfinite(p[2]) && std::isfinite(p[0]) && std::isfinite(p[1]);
 }
@@ -33,11 +43,10 @@ inline bool valid_point(const float* p) {
 /// outside the image counts as edge. Edge pixels have distance 0. An edge pixel is a point with
 /// a valid 4-neighbour further than factor * z in depth; with `missing_is_edge`, also a missing
 /// point or one with a missing 4-neighbour.
-std::vector<std::uint8_t> edge_distance(const Cloud& cloud, double factor, int cap,
+std::vector<std::uint8_t> edge_distance(const Cloud& cloud, JumpThreshold jt, int cap,
                                         bool missing_is_edge) {
   const int H = cloud.rows(), W = cloud.cols();
   std::vector<std::uint8_t> h(std::size_t(H) * W), dist(std::size_t(H) * W);
-  const float f = float(factor);
   // rows: edge flags and the horizontal distance
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
     std::vector<std::uint8_t> edge(W);
@@ -51,7 +60,7 @@ std::vector<std::uint8_t> edge_distance(const Cloud& cloud, double factor, int c
           edge[u] = missing_is_edge;
           continue;
         }
-        const float z = p[2], t = f * z;
+        const float z = p[2], t = jt(z);
         bool e = false;
         auto check = [&](const float* q) {
           if (!valid_point(q)) {
@@ -151,9 +160,9 @@ inline bool smallest_eigenvector(double c00, double c01, double c02, double c11,
 /// The points of the window of side `side` around (v, u) that lie within `factor` * z of the
 /// centre's depth, passed to `add(du, dv, dx, dy, dz)` relative to the centre. Returns the count.
 template <typename Add>
-int for_each_near(const Cloud& cloud, int v, int u, int side, double factor, Add&& add) {
+int for_each_near(const Cloud& cloud, int v, int u, int side, JumpThreshold jt, Add&& add) {
   const float* c = cloud.ptr(v, u);
-  const float t = float(factor) * c[2];
+  const float t = jt(c[2]);
   const int r = side / 2;
   const int v0 = std::max(0, v - r), v1 = std::min(cloud.rows() - 1, v + r);
   const int u0 = std::max(0, u - r), u1 = std::min(cloud.cols() - 1, u + r);
@@ -171,26 +180,28 @@ int for_each_near(const Cloud& cloud, int v, int u, int side, double factor, Add
 }
 
 /// Masked least-squares tangents at an edge pixel: fits p = p0 + a du + b dv to the points of
-/// the window within depth_change_factor * z of the centre, n = a x b (float: the coordinates
-/// are relative to the centre, so they are small).
+/// the window (every `step`-th row and column of it) within depth_change_factor * z of the
+/// centre, n = a x b (float: the coordinates are relative to the centre, so they are small).
 void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalOptions& o,
-                       float* out) {
+                       float* out, int step = 1) {
   const float* c = cloud.ptr(v, u);
-  const float t = float(o.depth_change_factor) * c[2];
+  const float t = JumpThreshold(o)(c[2]);
   const int r = side / 2;
-  const int v0 = std::max(0, v - r), v1 = std::min(cloud.rows() - 1, v + r);
-  const int u0 = std::max(0, u - r), u1 = std::min(cloud.cols() - 1, u + r);
   float N = 0, Su = 0, Sv = 0, Suu = 0, Suv = 0, Svv = 0;
   float sc[3] = {0, 0, 0}, su[3] = {0, 0, 0}, sv[3] = {0, 0, 0};
   // branch-free (the accepted points of an edge window are unpredictable): a rejected or
   // missing point contributes zeros
-  for (int vv = v0; vv <= v1; ++vv) {
-    const float* q = cloud.ptr(vv, u0);
-    const float dv = float(vv - v);
-    for (int uu = u0; uu <= u1; ++uu, q += 3) {
+  for (int dvi = -r; dvi <= r; dvi += step) {
+    const int vv = v + dvi;
+    if (vv < 0 || vv >= cloud.rows()) continue;
+    const float dv = float(dvi);
+    for (int dui = -r; dui <= r; dui += step) {
+      const int uu = u + dui;
+      if (uu < 0 || uu >= cloud.cols()) continue;
+      const float* q = cloud.ptr(vv, uu);
       const bool in = std::abs(q[2] - c[2]) <= t;  // also false for a missing (NaN) point
       const float m = in ? 1.f : 0.f;
-      const float du = float(uu - u);
+      const float du = float(dui);
       const float mu = m * du, mv = m * dv;
       N += m, Su += mu, Sv += mv, Suu += mu * du, Suv += mu * dv, Svv += mv * dv;
       for (int k = 0; k < 3; ++k) {
@@ -204,7 +215,7 @@ void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalO
   // rows 1 and 2 of the adjugate of M = [[N, Su, Sv], [Su, Suu, Suv], [Sv, Suv, Svv]]
   const float c00 = Suu * Svv - Suv * Suv, c01 = Sv * Suv - Su * Svv, c02 = Su * Suv - Sv * Suu;
   const float det = N * c00 + Su * c01 + Sv * c02;
-  if (!(det > 0.5f)) return;  // an integer; 0 when the pixels are collinear
+  if (!(det > 0.5f)) return;  // an integer (times step^4); 0 when the pixels are collinear
   const float c11 = N * Svv - Sv * Sv, c12 = Su * Sv - N * Suv, c22 = N * Suu - Su * Su;
   float a[3], b[3];
   for (int k = 0; k < 3; ++k) {
@@ -219,7 +230,7 @@ void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalO
 void explicit_covariance(const Cloud& cloud, int v, int u, int side, const NormalOptions& o,
                          float* out) {
   double s[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-  const int n = for_each_near(cloud, v, u, side, o.depth_change_factor,
+  const int n = for_each_near(cloud, v, u, side, JumpThreshold(o),
                               [&](double, double, double x, double y, double z) {
                                 s[0] += x, s[1] += y, s[2] += z;
                                 s[3] += x * x, s[4] += x * y, s[5] += x * z;
@@ -237,42 +248,44 @@ void explicit_covariance(const Cloud& cloud, int v, int u, int side, const Norma
 
 // ---- fast: separable least-squares tangents ----------------------------------------------
 
-/// Edge flags (1 = missing, or a 4-neighbour missing or further than factor * z in depth), one
-/// byte per pixel, written branch-free so that the compiler vectorizes the rows. A point is
-/// missing when its z is not a positive finite number.
-std::vector<std::uint8_t> edge_flags(const Cloud& cloud, double factor) {
+/// Bad-pixel flags, one byte per pixel: 1 for a missing point (z not a positive finite number)
+/// or a point with a valid 4-neighbour further than factor * z in depth (either side of a depth
+/// jump). A window without bad pixels holds only valid points and never crosses a jump (a
+/// window that spans a jump holds an adjacent pair across it, and both are flagged). Written
+/// branch-free so that the rows vectorize.
+std::vector<std::uint8_t> edge_flags(const Cloud& cloud, JumpThreshold jt) {
   const int H = cloud.rows(), W = cloud.cols();
-  std::vector<float> zimg(std::size_t(H) * W);
   std::vector<std::uint8_t> edge(std::size_t(H) * W);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 32), [&](const tbb::blocked_range<int>& rows) {
-    for (int v = rows.begin(); v < rows.end(); ++v) {
-      const float* p = cloud.ptr(v, 0);
-      float* z = zimg.data() + std::size_t(v) * W;
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
+    // z of rows begin-1 .. end (clamped), NaN where missing: a small buffer per task
+    const int ya = std::max(0, rows.begin() - 1), yb = std::min(H, rows.end() + 1);
+    std::vector<float> zbuf(std::size_t(yb - ya) * W);
+    for (int y = ya; y < yb; ++y) {
+      const float* p = cloud.ptr(y, 0);
+      float* z = zbuf.data() + std::size_t(y - ya) * W;
       for (int u = 0; u < W; ++u) {
         const float zz = p[3 * u + 2];
         z[u] = (zz > 0.f && zz < INFINITY) ? zz : kNaN;
       }
     }
-  });
-  const float f = float(factor);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 32), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
-      const float* z = zimg.data() + std::size_t(v) * W;
+      const float* z = zbuf.data() + std::size_t(v - ya) * W;
       const float* zu = v > 0 ? z - W : z;  // no neighbour outside the image
       const float* zd = v + 1 < H ? z + W : z;
       std::uint8_t* e = edge.data() + std::size_t(v) * W;
+      // |a - b| > t is false when a neighbour is missing (NaN): missing neighbours do not count
       for (int u = 1; u + 1 < W; ++u) {
-        const float t = f * z[u];
-        const bool ok = std::abs(z[u - 1] - z[u]) <= t && std::abs(z[u + 1] - z[u]) <= t &&
-                        std::abs(zu[u] - z[u]) <= t && std::abs(zd[u] - z[u]) <= t;
-        e[u] = ok ? 0 : 1;  // NaN anywhere makes a comparison false
+        const float t = jt(z[u]);
+        const bool bad = !(z[u] > 0.f) | (std::abs(z[u - 1] - z[u]) > t) | (std::abs(z[u + 1] - z[u]) > t) |
+                         (std::abs(zu[u] - z[u]) > t) | (std::abs(zd[u] - z[u]) > t);
+        e[u] = bad ? 1 : 0;
       }
       for (int u : {0, W - 1}) {
-        const float t = f * z[u];
+        const float t = jt(z[u]);
         const int l = std::max(u - 1, 0), rr = std::min(u + 1, W - 1);
-        const bool ok = std::abs(z[l] - z[u]) <= t && std::abs(z[rr] - z[u]) <= t &&
-                        std::abs(zu[u] - z[u]) <= t && std::abs(zd[u] - z[u]) <= t;
-        e[u] = ok ? 0 : 1;
+        const bool bad = !(z[u] > 0.f) | (std::abs(z[l] - z[u]) > t) | (std::abs(z[rr] - z[u]) > t) |
+                         (std::abs(zu[u] - z[u]) > t) | (std::abs(zd[u] - z[u]) > t);
+        e[u] = bad ? 1 : 0;
       }
     }
   });
@@ -289,7 +302,8 @@ template <int kR>
 void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) {
   const int H = cloud.rows(), W = cloud.cols();
   const int r = kR > 0 ? kR : o.window / 2;
-  const auto edge = edge_flags(cloud, o.depth_change_factor);
+  const JumpThreshold jt(o);
+  const auto edge = edge_flags(cloud, jt);
   const int block = 32;
   const int blocks = (H + block - 1) / block;
   tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& br) {
@@ -308,7 +322,7 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
         float* Y = X + W;
         float* Z = Y + W;
         for (int u = 0; u < W; ++u) {
-          // edge pixels may be invalid; their windows are never summed, so 0 is safe
+          // bad pixels may be invalid; no window that is summed holds one, so 0 is safe
           const bool ok = !e[u];
           X[u] = ok ? row[3 * u] : 0.f;
           Y[u] = ok ? row[3 * u + 1] : 0.f;
@@ -440,7 +454,7 @@ void covariance_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& o
   const int rmax = smax / 2;
   // Like PCL's integral-image normals, missing points only leave the sums (a count channel
   // divides them out); windows shrink at depth jumps only.
-  const auto dist = edge_distance(cloud, o.depth_change_factor, std::min(rmax + 1, 255), false);
+  const auto dist = edge_distance(cloud, JumpThreshold(o), std::min(rmax + 1, 255), false);
   const int block = std::max(32, 4 * rmax);
   const int blocks = (H + block - 1) / block;
   constexpr int C = 10;  // n x y z xx xy xz yy yz zz
@@ -488,7 +502,7 @@ void covariance_normals(const Cloud& cloud, const NormalOptions& o, NormalMap& o
             side = std::clamp(side | 1, 3, smax);
           }
           const int r = std::min(side / 2, int(d[u]) - 1);
-          if (r < 1) {
+          if (r < 1 || (r < 2 && side > 3)) {  // a 3 x 3 (or no) window left: the depth-tested one is better
             explicit_covariance(cloud, v, u, std::min(side, 7), o, n);
             continue;
           }
@@ -529,14 +543,18 @@ NormalMap estimate_normals(const Cloud& cloud, const NormalOptions& o) {
   if (o.window < 3 || o.window % 2 == 0 || o.window > 101)
     throw InputError("normals: window must be odd and in [3, 101], got " +
                      std::to_string(o.window));
+  if (!(o.noise_depth > 0))
+    throw InputError("normals: noise_depth must be > 0, got " + std::to_string(o.noise_depth));
   if (!(o.depth_change_factor > 0))
     throw InputError("normals: depth_change_factor must be > 0, got " +
                      std::to_string(o.depth_change_factor));
   if (o.adaptive_window && !(o.reference_depth > 0))
     throw InputError("normals: reference_depth must be > 0, got " +
                      std::to_string(o.reference_depth));
-  NormalMap out(cloud.rows(), cloud.cols(), kNaN);
-  if (cloud.empty()) return out;
+  if (cloud.empty()) return NormalMap(cloud.rows(), cloud.cols(), kNaN);
+  // not filled: both methods write every pixel (a normal or NaN)
+  NormalMap out(cloud.rows(), cloud.cols(),
+                std::shared_ptr<float[]>(new float[std::size_t(cloud.rows()) * cloud.cols() * 3]));
   if (o.method == NormalMethod::Fast)
     fast_normals(cloud, o, out);
   else

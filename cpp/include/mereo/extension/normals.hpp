@@ -25,6 +25,10 @@ struct NormalOptions {
   /// window crosses it (windows shrink near it; at the jump itself only the points within
   /// depth_change_factor * z of the centre's depth are used).
   double depth_change_factor = 0.02;
+  /// Metres: beyond this depth the jump threshold grows as z^2 (depth_change_factor * z^2 /
+  /// noise_depth) like the noise of structured-light sensors, so that a far wall's noise is not
+  /// taken for discontinuities.
+  double noise_depth = 2.0;
   /// Covariance: the window's side is window * reference_depth / z (odd, in [3, 2 * window + 1]),
   /// i.e. a constant metric size: it shrinks with depth. Off: the side is `window` everywhere.
   bool adaptive_window = true;

@@ -46,13 +46,14 @@ void bind_extension(py::module_& m) {
 
   m.def("estimate_normals",
         [](py::handle cloud, const std::string& method, int window, double depth_change_factor,
-           bool adaptive_window, double reference_depth) {
+           bool adaptive_window, double reference_depth, double noise_depth) {
           ext::NormalOptions o;
           o.method = ext::normal_method(method);
           o.window = window;
           o.depth_change_factor = depth_change_factor;
           o.adaptive_window = adaptive_window;
           o.reference_depth = reference_depth;
+          o.noise_depth = noise_depth;
           const auto c = from_numpy<float, 3>(cloud, "cloud");
           mereo::NormalMap n;
           {
@@ -63,10 +64,11 @@ void bind_extension(py::module_& m) {
         },
         py::arg("cloud"), py::arg("method") = "fast", py::arg("window") = 5,
         py::arg("depth_change_factor") = 0.02, py::arg("adaptive_window") = true,
-        py::arg("reference_depth") = 1.0,
+        py::arg("reference_depth") = 1.0, py::arg("noise_depth") = 2.0,
         "Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN where "
         "undefined. method 'fast' (least-squares tangents) or 'covariance' (PCA, integral images); "
-        "windows never cross a depth jump larger than depth_change_factor * z.");
+        "windows never cross a depth jump larger than depth_change_factor * z (growing as z^2 beyond "
+        "noise_depth metres).");
 
   py::class_<ext::SupportPlane>(m, "SupportPlane",
                                 "The table plane: normal (towards the camera), d (normal . x + d = 0), "

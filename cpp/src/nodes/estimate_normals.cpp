@@ -24,6 +24,8 @@ graph::NodeSpec estimate_normals_node() {
       {"window", OptionType::Int, (long long)def.window, 3, 101, {}, "window side in pixels (odd)"},
       {"depth_change_factor", OptionType::Double, def.depth_change_factor, 1e-4, 1, {},
        "a depth jump larger than this times z breaks smoothing"},
+      {"noise_depth", OptionType::Double, def.noise_depth, 0.1, 100, {},
+       "metres: beyond it the jump threshold grows as z^2 (sensor noise)"},
       {"adaptive_window", OptionType::Bool, def.adaptive_window, 0, 0, {},
        "covariance: the window shrinks with depth (constant metric size)"},
       {"reference_depth", OptionType::Double, def.reference_depth, 0.1, 10, {},
@@ -37,6 +39,7 @@ graph::NodeSpec estimate_normals_node() {
     n.depth_change_factor = o.get_double("depth_change_factor");
     n.adaptive_window = o.get_bool("adaptive_window");
     n.reference_depth = o.get_double("reference_depth");
+    n.noise_depth = o.get_double("noise_depth");
     return graph::NodeBody([n](graph::NodeContext& ctx) {
       ctx.output("normals", extension::estimate_normals(ctx.input<Cloud>("cloud"), n));
     });

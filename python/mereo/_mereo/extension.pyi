@@ -51,9 +51,9 @@ def back_project(depth: typing.Any, intrinsics: mereo._mereo.Intrinsics) -> typi
     """
     Back-projects an (H, W) depth image in metres.
     """
-def estimate_normals(cloud: typing.Any, method: str = 'fast', window: typing.SupportsInt = 5, depth_change_factor: typing.SupportsFloat = 0.02, adaptive_window: bool = True, reference_depth: typing.SupportsFloat = 1.0) -> typing.Any:
+def estimate_normals(cloud: typing.Any, method: str = 'fast', window: typing.SupportsInt = 5, depth_change_factor: typing.SupportsFloat = 0.02, adaptive_window: bool = True, reference_depth: typing.SupportsFloat = 1.0, noise_depth: typing.SupportsFloat = 2.0) -> typing.Any:
     """
-    Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN where undefined. method 'fast' (least-squares tangents) or 'covariance' (PCA, integral images); windows never cross a depth jump larger than depth_change_factor * z.
+    Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN where undefined. method 'fast' (least-squares tangents) or 'covariance' (PCA, integral images); windows never cross a depth jump larger than depth_change_factor * z (growing as z^2 beyond noise_depth metres).
     """
 def find_support_plane(cloud: typing.Any, normals: typing.Any, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, epsilon: typing.SupportsFloat = 0.008, min_inliers: typing.SupportsInt = 2000, min_height: typing.SupportsFloat = 0.006, max_height: typing.SupportsFloat = 0.4, margin: typing.SupportsFloat = 0.0, seed: typing.SupportsInt = 0) -> SupportPlane:
     """

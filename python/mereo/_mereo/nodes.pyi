@@ -36,6 +36,7 @@ def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
         method (str, default fast, one of fast covariance): fast: least-squares tangents; covariance: PCA through integral images
         window (int, default 5, 3..101): window side in pixels (odd)
         depth_change_factor (float, default 0.02, 0.0001..1): a depth jump larger than this times z breaks smoothing
+        noise_depth (float, default 2, 0.1..100): metres: beyond it the jump threshold grows as z^2 (sensor noise)
         adaptive_window (bool, default true): covariance: the window shrinks with depth (constant metric size)
         reference_depth (float, default 1, 0.1..10): metres: depth at which the adaptive window equals `window`
     """

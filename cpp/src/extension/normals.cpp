@@ -253,43 +253,41 @@ void explicit_covariance(const Cloud& cloud, int v, int u, int side, const Norma
 /// jump). A window without bad pixels holds only valid points and never crosses a jump (a
 /// window that spans a jump holds an adjacent pair across it, and both are flagged). Written
 /// branch-free so that the rows vectorize.
-std::vector<std::uint8_t> edge_flags(const Cloud& cloud, JumpThreshold jt) {
+/// The flags of rows [ya, yb) into `flags` ((yb - ya) * W bytes); `zbuf` is scratch.
+void bad_rows(const Cloud& cloud, JumpThreshold jt, int ya, int yb, std::vector<float>& zbuf,
+              std::uint8_t* flags) {
   const int H = cloud.rows(), W = cloud.cols();
-  std::vector<std::uint8_t> edge(std::size_t(H) * W);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
-    // z of rows begin-1 .. end (clamped), NaN where missing: a small buffer per task
-    const int ya = std::max(0, rows.begin() - 1), yb = std::min(H, rows.end() + 1);
-    std::vector<float> zbuf(std::size_t(yb - ya) * W);
-    for (int y = ya; y < yb; ++y) {
-      const float* p = cloud.ptr(y, 0);
-      float* z = zbuf.data() + std::size_t(y - ya) * W;
-      for (int u = 0; u < W; ++u) {
-        const float zz = p[3 * u + 2];
-        z[u] = (zz > 0.f && zz < INFINITY) ? zz : kNaN;
-      }
+  // z of rows ya-1 .. yb (clamped), NaN where missing
+  const int za = std::max(0, ya - 1), zb = std::min(H, yb + 1);
+  zbuf.resize(std::size_t(zb - za) * W);
+  for (int y = za; y < zb; ++y) {
+    const float* p = cloud.ptr(y, 0);
+    float* z = zbuf.data() + std::size_t(y - za) * W;
+    for (int u = 0; u < W; ++u) {
+      const float zz = p[3 * u + 2];
+      z[u] = (zz > 0.f && zz < INFINITY) ? zz : kNaN;
     }
-    for (int v = rows.begin(); v < rows.end(); ++v) {
-      const float* z = zbuf.data() + std::size_t(v - ya) * W;
-      const float* zu = v > 0 ? z - W : z;  // no neighbour outside the image
-      const float* zd = v + 1 < H ? z + W : z;
-      std::uint8_t* e = edge.data() + std::size_t(v) * W;
-      // |a - b| > t is false when a neighbour is missing (NaN): missing neighbours do not count
-      for (int u = 1; u + 1 < W; ++u) {
-        const float t = jt(z[u]);
-        const bool bad = !(z[u] > 0.f) | (std::abs(z[u - 1] - z[u]) > t) | (std::abs(z[u + 1] - z[u]) > t) |
-                         (std::abs(zu[u] - z[u]) > t) | (std::abs(zd[u] - z[u]) > t);
-        e[u] = bad ? 1 : 0;
-      }
-      for (int u : {0, W - 1}) {
-        const float t = jt(z[u]);
-        const int l = std::max(u - 1, 0), rr = std::min(u + 1, W - 1);
-        const bool bad = !(z[u] > 0.f) | (std::abs(z[l] - z[u]) > t) | (std::abs(z[rr] - z[u]) > t) |
-                         (std::abs(zu[u] - z[u]) > t) | (std::abs(zd[u] - z[u]) > t);
-        e[u] = bad ? 1 : 0;
-      }
+  }
+  for (int v = ya; v < yb; ++v) {
+    const float* z = zbuf.data() + std::size_t(v - za) * W;
+    const float* zu = v > 0 ? z - W : z;  // no neighbour outside the image
+    const float* zd = v + 1 < H ? z + W : z;
+    std::uint8_t* e = flags + std::size_t(v - ya) * W;
+    // |a - b| > t is false when a neighbour is missing (NaN): missing neighbours do not count
+    for (int u = 1; u + 1 < W; ++u) {
+      const float t = jt(z[u]);
+      const bool bad = !(z[u] > 0.f) | (std::abs(z[u - 1] - z[u]) > t) | (std::abs(z[u + 1] - z[u]) > t) |
+                       (std::abs(zu[u] - z[u]) > t) | (std::abs(zd[u] - z[u]) > t);
+      e[u] = bad ? 1 : 0;
     }
-  });
-  return edge;
+    for (int u : {0, W - 1}) {
+      const float t = jt(z[u]);
+      const int l = std::max(u - 1, 0), rr = std::min(u + 1, W - 1);
+      const bool bad = !(z[u] > 0.f) | (std::abs(z[l] - z[u]) > t) | (std::abs(z[rr] - z[u]) > t) |
+                       (std::abs(zu[u] - z[u]) > t) | (std::abs(zd[u] - z[u]) > t);
+      e[u] = bad ? 1 : 0;
+    }
+  }
 }
 
 /// The fast method. Per row: vertical box and ramp sums of x, y, z over the window's rows, then
@@ -303,7 +301,6 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
   const int H = cloud.rows(), W = cloud.cols();
   const int r = kR > 0 ? kR : o.window / 2;
   const JumpThreshold jt(o);
-  const auto edge = edge_flags(cloud, jt);
   const int block = 32;
   const int blocks = (H + block - 1) / block;
   tbb::parallel_for(tbb::blocked_range<int>(0, blocks, 1), [&](const tbb::blocked_range<int>& br) {
@@ -311,13 +308,18 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
     std::vector<float> vs(6 * std::size_t(W));  // Bx By Bz Rx Ry Rz
     std::vector<float> nn(3 * std::size_t(W));  // unnormalised normals
     std::vector<std::uint16_t> cv(W), cnt(W), cv3(W), cnt3(W);
+    std::vector<float> zbuf;
+    std::vector<std::uint8_t> bad;  // bad-pixel flags of rows ya..yb
     for (int b = br.begin(); b < br.end(); ++b) {
       const int v0 = b * block, v1 = std::min(H, v0 + block);
       const int ya = std::max(0, v0 - r), yb = std::min(H, v1 + r);
       soa.resize(std::size_t(yb - ya) * 3 * W);
+      bad.resize(std::size_t(yb - ya) * W);
+      bad_rows(cloud, jt, ya, yb, zbuf, bad.data());
+      auto edge_row = [&](int y) { return bad.data() + std::size_t(y - ya) * W; };
       for (int y = ya; y < yb; ++y) {
         const float* row = cloud.ptr(y, 0);
-        const std::uint8_t* e = edge.data() + std::size_t(y) * W;
+        const std::uint8_t* e = edge_row(y);
         float* X = soa.data() + std::size_t(y - ya) * 3 * W;
         float* Y = X + W;
         float* Z = Y + W;
@@ -351,11 +353,11 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
             }
           }
           // edge pixels in the window: vertical then horizontal counts
-          const std::uint8_t* e0 = edge.data() + std::size_t(v) * W;
+          const std::uint8_t* e0 = edge_row(v);
           for (int u = 0; u < W; ++u) cv[u] = e0[u];
           for (int k = 1; k <= r; ++k) {
-            const std::uint8_t* ep = edge.data() + std::size_t(v + k) * W;
-            const std::uint8_t* em = edge.data() + std::size_t(v - k) * W;
+            const std::uint8_t* ep = edge_row(v + k);
+            const std::uint8_t* em = edge_row(v - k);
             for (int u = 0; u < W; ++u) cv[u] = std::uint16_t(cv[u] + ep[u] + em[u]);
           }
           for (int u = r; u + r < W; ++u) {
@@ -366,8 +368,8 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
           for (int u = 0; u < r; ++u) cnt[u] = cnt[W - 1 - u] = 1;  // window past the border
           // the same over 3 x 3 (the fallback of pixels near an edge)
           {
-            const std::uint8_t* ep = edge.data() + std::size_t(v + 1) * W;
-            const std::uint8_t* em = edge.data() + std::size_t(v - 1) * W;
+            const std::uint8_t* ep = edge_row(v + 1);
+            const std::uint8_t* em = edge_row(v - 1);
             for (int u = 0; u < W; ++u) cv3[u] = std::uint16_t(e0[u] + ep[u] + em[u]);
             for (int u = 1; u + 1 < W; ++u) cnt3[u] = std::uint16_t(cv3[u - 1] + cv3[u] + cv3[u + 1]);
             cnt3[0] = cnt3[W - 1] = 1;

@@ -125,6 +125,14 @@ inline void store_normal(double nx, double ny, double nz, const float* p, float*
   out[2] = float(nz * s);
 }
 
+/// The same in float (the fast method's edge pixels): NaN when the length is 0 or not finite.
+inline void store_normal_f(float nx, float ny, float nz, const float* p, float* out) {
+  const float len2 = nx * nx + ny * ny + nz * nz;
+  float s = (len2 > 0.f && len2 < INFINITY) ? 1.f / std::sqrt(len2) : kNaN;
+  s = (nx * p[0] + ny * p[1] + nz * p[2] > 0.f) ? -s : s;
+  out[0] = nx * s, out[1] = ny * s, out[2] = nz * s;
+}
+
 /// Eigenvector of the smallest eigenvalue of a symmetric positive semi-definite 3x3 matrix, by
 /// power iteration on its adjugate (whose dominant eigenvector it is: adj(C) = sum over i of
 /// (product of the other two eigenvalues) e_i e_i^T). False when C has rank < 2.
@@ -222,7 +230,7 @@ void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalO
     a[k] = c01 * sc[k] + c11 * su[k] + c12 * sv[k];
     b[k] = c02 * sc[k] + c12 * su[k] + c22 * sv[k];
   }
-  store_normal(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0], c,
+  store_normal_f(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0], c,
                out);
 }
 
@@ -425,7 +433,7 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
               a[c] = (Pm[u + 1] - Pm[u - 1]) + (P0[u + 1] - P0[u - 1]) + (Pp[u + 1] - Pp[u - 1]);
               bb[c] = (Pp[u - 1] - Pm[u - 1]) + (Pp[u] - Pm[u]) + (Pp[u + 1] - Pm[u + 1]);
             }
-            store_normal(a[1] * bb[2] - a[2] * bb[1], a[2] * bb[0] - a[0] * bb[2],
+            store_normal_f(a[1] * bb[2] - a[2] * bb[1], a[2] * bb[0] - a[0] * bb[2],
                          a[0] * bb[1] - a[1] * bb[0], p, n);
           } else if (valid_point(p)) {
             explicit_tangents(cloud, v, u, std::min(o.window, 5), o, n);

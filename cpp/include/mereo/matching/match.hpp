@@ -1,0 +1,78 @@
+// mereo/matching/match.hpp: matching object models to data segments (the object layer), after
+// Kasprzak et al.: a hypothesis assigns one segment of the right class to each part of a
+// concept (optional parts may stay missing); its score is the product of the parts' attribute
+// memberships, the constraints' values and the missing parts' factors (eq. 5.5); its judgement
+// is the posterior of the concept's Bayesian net (bayes.hpp).
+//
+// Two searches return exactly the same N best hypotheses (score descending, ties broken by the
+// assignment in lexicographic order):
+//  - match_exhaustive: every assignment (eq. 5.6), the baseline;
+//  - match: a branch-and-bound constraint optimisation: parts are assigned most-constrained
+//    first, values best-scoring first; a branch is pruned when its upper bound (the partial
+//    score times, for every unassigned part, its best value given the assigned parts: forward
+//    checking) falls below the worst of the N kept or below min_score.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mereo/core/segment.hpp"
+#include "mereo/knowledge/model.hpp"
+#include "mereo/knowledge/predicates.hpp"
+
+namespace mereo::matching {
+
+struct Hypothesis {
+  std::string concept_name;
+  std::vector<int> assignment;  ///< per part of the concept: index into the segments, -1 = missing
+  double score = 0.0;           ///< eq. 5.5, in (0, 1]
+  double posterior = 0.0;       ///< P(concept | evidence) from the concept's net
+};
+
+struct MatchOptions {
+  int best = 10;                ///< N: hypotheses kept per concept
+  double min_score = 1e-6;      ///< hypotheses below this score are dropped (and pruned)
+  knowledge::Context context;   ///< the direction of "up" for above / on / tilt
+};
+
+struct MatchStats {
+  std::size_t expanded = 0;     ///< search nodes visited (partial and complete assignments)
+  std::size_t pruned = 0;       ///< branches cut by the bound, the threshold or forward checking
+  std::size_t complete = 0;     ///< complete assignments scored
+};
+
+/// The membership product of the part's attributes for a segment (0 for a segment of another class).
+double part_score(const knowledge::Concept& c, int part, const Segment& s, const knowledge::Context& ctx);
+
+/// eq. 5.5 for a complete assignment (computed in a fixed order: parts, then constraints).
+double hypothesis_score(const knowledge::Concept& c, const std::vector<int>& assignment,
+                        const std::vector<Segment>& segments, const knowledge::Context& ctx);
+
+/// The concept's posterior for a (partial: -2 = undecided) assignment.
+double judge(const knowledge::Concept& c, const std::vector<int>& assignment,
+             const std::vector<Segment>& segments, const knowledge::Context& ctx);
+
+/// Every assignment of distinct segments to the parts (optional parts may be missing).
+std::vector<Hypothesis> match_exhaustive(const knowledge::Concept& c, const std::vector<Segment>& segments,
+                                         const MatchOptions& options = {}, MatchStats* stats = nullptr);
+
+/// The branch-and-bound search: the same result as match_exhaustive, with far fewer nodes.
+std::vector<Hypothesis> match(const knowledge::Concept& c, const std::vector<Segment>& segments,
+                              const MatchOptions& options = {}, MatchStats* stats = nullptr);
+
+/// The result of one frame: hypotheses of several concepts and the mutual-exclusion arcs
+/// between any two that share a segment (the lattice of the method).
+struct Lattice {
+  std::vector<Hypothesis> hypotheses;          ///< by concept (in the order asked), best first
+  std::vector<std::pair<int, int>> excludes;   ///< index pairs (i < j) into hypotheses
+  MatchStats stats;
+};
+
+/// Matches every concept in `concepts` (resolved from `kb`, Fine detail, first modality) in
+/// parallel (oneTBB, one task per concept; the result does not depend on the thread count).
+Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::string>& concepts,
+                  const std::vector<Segment>& segments, const MatchOptions& options = {});
+
+}  // namespace mereo::matching

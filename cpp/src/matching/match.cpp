@@ -1,0 +1,300 @@
+// Exhaustive and branch-and-bound matching of concepts to segments (see match.hpp).
+#include "mereo/matching/match.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <numeric>
+
+#include <tbb/parallel_for.h>
+
+#include "mereo/knowledge/bayes.hpp"
+
+namespace mereo::matching {
+namespace {
+
+using knowledge::Concept;
+using knowledge::Context;
+
+/// The N best, kept sorted: score descending, then assignment ascending (lexicographic).
+class Best {
+ public:
+  Best(std::size_t n, double min_score) : n_(n), min_(min_score) {}
+  static bool better(const Hypothesis& a, const Hypothesis& b) {
+    if (a.score != b.score) return a.score > b.score;
+    return a.assignment < b.assignment;
+  }
+  void offer(Hypothesis h) {
+    if (!(h.score >= min_) || !(h.score > 0)) return;
+    if (items_.size() == n_ && !better(h, items_.back())) return;
+    items_.insert(std::upper_bound(items_.begin(), items_.end(), h, better), std::move(h));
+    if (items_.size() > n_) items_.pop_back();
+  }
+  bool full() const { return items_.size() == n_; }
+  /// The score a branch must reach to matter (the worst kept, or the threshold).
+  double floor() const { return full() ? std::max(min_, items_.back().score) : min_; }
+  std::vector<Hypothesis> take() { return std::move(items_); }
+
+ private:
+  std::size_t n_;
+  double min_;
+  std::vector<Hypothesis> items_;
+};
+
+/// Constraint values of the constraints whose parts are all assigned (none missing), in index
+/// order, for a complete or partial assignment (-1 missing, -2 undecided).
+double constraint_product(const Concept& c, const std::vector<int>& a, const std::vector<Segment>& segs,
+                          const Context& ctx, std::vector<double>* values = nullptr) {
+  double s = 1.0;
+  std::vector<const Segment*> parts;
+  for (std::size_t k = 0; k < c.constraints.size(); ++k) {
+    const auto& con = c.constraints[k];
+    parts.clear();
+    bool all = true;
+    for (const auto& role : con.parts) {
+      const int i = c.part_index(role);
+      if (a[i] < 0) {
+        all = false;
+        break;
+      }
+      parts.push_back(&segs[a[i]]);
+    }
+    const double v = all ? knowledge::evaluate(con, parts, ctx) : -1.0;
+    if (values) values->push_back(v);
+    if (all) s *= v;
+  }
+  return s;
+}
+
+struct Prepared {
+  const Concept& c;
+  const std::vector<Segment>& segs;
+  const MatchOptions& o;
+  std::vector<std::vector<double>> unary;  // [part][segment]
+  std::vector<std::vector<int>> domain;    // [part]: segments of the part's class
+  /// constraints touching each part
+  std::vector<std::vector<int>> touching;
+
+  Prepared(const Concept& c_, const std::vector<Segment>& s_, const MatchOptions& o_) : c(c_), segs(s_), o(o_) {
+    const std::size_t P = c.parts.size();
+    unary.assign(P, std::vector<double>(segs.size(), 0.0));
+    domain.resize(P);
+    touching.resize(P);
+    for (std::size_t i = 0; i < P; ++i)
+      for (std::size_t j = 0; j < segs.size(); ++j)
+        if (knowledge::is_primitive(c.parts[i].cls) && to_string(segs[j].cls) == c.parts[i].cls) {
+          domain[i].push_back(int(j));
+          unary[i][j] = part_score(c, int(i), segs[j], o.context);
+        }
+    for (std::size_t k = 0; k < c.constraints.size(); ++k)
+      for (const auto& role : c.constraints[k].parts) {
+        const int i = c.part_index(role);
+        if (std::find(touching[i].begin(), touching[i].end(), int(k)) == touching[i].end())
+          touching[i].push_back(int(k));
+      }
+  }
+
+  Hypothesis make(const std::vector<int>& a) const {
+    Hypothesis h;
+    h.concept_name = c.name;
+    h.assignment = a;
+    h.score = hypothesis_score(c, a, segs, o.context);
+    h.posterior = judge(c, a, segs, o.context);
+    return h;
+  }
+};
+
+}  // namespace
+
+double part_score(const Concept& c, int part, const Segment& s, const Context& ctx) {
+  if (to_string(s.cls) != c.parts.at(part).cls) return 0.0;
+  double m = 1.0;
+  for (const auto& a : c.attributes)
+    if (a.part == c.parts[part].role) m *= a.range(knowledge::attribute_value(s, a.name, ctx));
+  return m;
+}
+
+double hypothesis_score(const Concept& c, const std::vector<int>& a, const std::vector<Segment>& segs,
+                        const Context& ctx) {
+  double s = 1.0;
+  for (std::size_t i = 0; i < c.parts.size(); ++i)
+    s *= a[i] >= 0 ? part_score(c, int(i), segs[a[i]], ctx) : c.parts[i].missing_score;
+  return s * constraint_product(c, a, segs, ctx);
+}
+
+double judge(const Concept& c, const std::vector<int>& a, const std::vector<Segment>& segs, const Context& ctx) {
+  knowledge::Evidence e;
+  for (std::size_t i = 0; i < c.parts.size(); ++i) {
+    e.state.push_back(a[i] >= 0 ? knowledge::PartState::Present
+                                : a[i] == -1 ? knowledge::PartState::Missing : knowledge::PartState::Undecided);
+    e.quality.push_back(a[i] >= 0 ? part_score(c, int(i), segs[a[i]], ctx) : 0.0);
+  }
+  constraint_product(c, a, segs, ctx, &e.satisfied);
+  return knowledge::posterior(c, e);
+}
+
+std::vector<Hypothesis> match_exhaustive(const Concept& c, const std::vector<Segment>& segs, const MatchOptions& o,
+                                         MatchStats* stats) {
+  const Prepared pr(c, segs, o);
+  Best best(std::size_t(std::max(1, o.best)), o.min_score);
+  MatchStats st;
+  const std::size_t P = c.parts.size();
+  std::vector<int> a(P, -2);
+  std::vector<char> used(segs.size(), 0);
+  std::function<void(std::size_t)> rec = [&](std::size_t i) {
+    ++st.expanded;
+    if (i == P) {
+      ++st.complete;
+      best.offer(pr.make(a));
+      return;
+    }
+    for (int s : pr.domain[i]) {
+      if (used[s]) continue;
+      used[s] = 1, a[i] = s;
+      rec(i + 1);
+      used[s] = 0;
+    }
+    if (c.parts[i].optional) {
+      a[i] = -1;
+      rec(i + 1);
+    }
+    a[i] = -2;
+  };
+  rec(0);
+  if (stats) *stats = st;
+  return best.take();
+}
+
+std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs, const MatchOptions& o,
+                              MatchStats* stats) {
+  const Prepared pr(c, segs, o);
+  Best best(std::size_t(std::max(1, o.best)), o.min_score);
+  MatchStats st;
+  const std::size_t P = c.parts.size();
+  const Context& ctx = o.context;
+
+  // values of each part, best-scoring first: (segment, unary); -1 = missing
+  std::vector<std::vector<std::pair<int, double>>> values(P);
+  for (std::size_t i = 0; i < P; ++i) {
+    for (int s : pr.domain[i])
+      if (pr.unary[i][s] > 0) values[i].push_back({s, pr.unary[i][s]});
+    if (c.parts[i].optional) values[i].push_back({-1, c.parts[i].missing_score});
+    std::stable_sort(values[i].begin(), values[i].end(),
+                     [](const auto& x, const auto& y) { return x.second > y.second; });
+  }
+  // most-constrained part first: fewest values, then most constraints, then model order
+  std::vector<int> order(P);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+    if (values[x].size() != values[y].size()) return values[x].size() < values[y].size();
+    return pr.touching[x].size() > pr.touching[y].size();
+  });
+
+  std::vector<int> a(P, -2);
+  std::vector<char> used(segs.size(), 0);
+  std::vector<const Segment*> args;
+  // value of constraint k if all its parts are assigned (none missing) with part `i` set to `s`
+  auto constraint_with = [&](int k, int i, int s, bool& complete) {
+    const auto& con = c.constraints[k];
+    args.clear();
+    complete = true;
+    for (const auto& role : con.parts) {
+      const int j = c.part_index(role);
+      const int v = j == i ? s : a[j];
+      if (v < 0) {
+        complete = false;
+        return 1.0;
+      }
+      args.push_back(&segs[v]);
+    }
+    return knowledge::evaluate(con, args, ctx);
+  };
+  // forward checking: the best factor part i can still bring, given the assigned parts
+  auto best_value = [&](int i) {
+    double m = 0.0;
+    for (const auto& [s, u] : values[i]) {
+      if (u <= m) break;  // sorted: no later value can beat m
+      if (s >= 0 && used[s]) continue;
+      double v = u;
+      if (s >= 0)
+        for (int k : pr.touching[i]) {
+          bool complete;
+          const double f = constraint_with(k, i, s, complete);
+          if (complete) v *= f;
+          if (v <= m) break;
+        }
+      m = std::max(m, v);
+    }
+    return m;
+  };
+  const double slack = 1 + 1e-9;  // bounds are products in another order than the final score
+
+  std::function<void(std::size_t, double)> rec = [&](std::size_t depth, double partial) {
+    ++st.expanded;
+    if (depth == P) {
+      ++st.complete;
+      best.offer(pr.make(a));
+      return;
+    }
+    const int i = order[depth];
+    for (const auto& [s, u] : values[i]) {
+      if (s >= 0 && used[s]) continue;
+      // the factor of this value: its unary score and the constraints it completes
+      double f = u;
+      if (s >= 0)
+        for (int k : pr.touching[i]) {
+          bool complete;
+          const double v = constraint_with(k, i, s, complete);
+          if (complete) f *= v;
+        }
+      const double next = partial * f;
+      if (next * slack < best.floor()) {
+        ++st.pruned;
+        if (s >= 0 || f == u) continue;
+        continue;
+      }
+      a[i] = s;
+      if (s >= 0) used[s] = 1;
+      // upper bound: every unassigned part at its best given what is assigned now
+      double bound = next;
+      for (std::size_t d = depth + 1; d < P && bound * slack >= best.floor(); ++d) bound *= best_value(order[d]);
+      if (bound * slack < best.floor())
+        ++st.pruned;
+      else
+        rec(depth + 1, next);
+      if (s >= 0) used[s] = 0;
+      a[i] = -2;
+    }
+  };
+  rec(0, 1.0);
+  if (stats) *stats = st;
+  return best.take();
+}
+
+Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::string>& concepts,
+                  const std::vector<Segment>& segments, const MatchOptions& options) {
+  std::vector<Concept> resolved;
+  for (const auto& name : concepts) resolved.push_back(knowledge::select(kb.resolve(name)));
+  std::vector<std::vector<Hypothesis>> found(resolved.size());
+  std::vector<MatchStats> stats(resolved.size());
+  tbb::parallel_for(std::size_t(0), resolved.size(),
+                    [&](std::size_t i) { found[i] = match(resolved[i], segments, options, &stats[i]); });
+  Lattice out;
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    for (auto& h : found[i]) out.hypotheses.push_back(std::move(h));
+    out.stats.expanded += stats[i].expanded;
+    out.stats.pruned += stats[i].pruned;
+    out.stats.complete += stats[i].complete;
+  }
+  for (std::size_t i = 0; i < out.hypotheses.size(); ++i)
+    for (std::size_t j = i + 1; j < out.hypotheses.size(); ++j) {
+      const auto& a = out.hypotheses[i].assignment;
+      const auto& b = out.hypotheses[j].assignment;
+      bool share = false;
+      for (int x : a)
+        if (x >= 0 && std::find(b.begin(), b.end(), x) != b.end()) share = true;
+      if (share) out.excludes.push_back({int(i), int(j)});
+    }
+  return out;
+}
+
+}  // namespace mereo::matching

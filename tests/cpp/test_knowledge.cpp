@@ -1,0 +1,257 @@
+// The knowledge base: fuzzy memberships, built-in predicates on analytic shapes, model files and
+// their errors, specialization, and the Bayesian judgement against brute-force enumeration.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include "mereo/core/error.hpp"
+#include "mereo/knowledge/bayes.hpp"
+#include "mereo/knowledge/model.hpp"
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/knowledge/predicates.hpp"
+
+using namespace mereo;
+using namespace mereo::knowledge;
+
+namespace {
+
+const std::string kModels = std::string(MEREO_SOURCE_DIR) + "/graphs/models/tabletop.yaml";
+
+Segment cylinder(Eigen::Vector3d p, Eigen::Vector3d axis, double r, double h) {
+  Segment s;
+  s.cls = PrimitiveClass::Cylinder;
+  s.point = p, s.axis = axis.normalized(), s.radius = r, s.height = h;
+  return s;
+}
+Segment torus(Eigen::Vector3d c, Eigen::Vector3d n, double R, double r) {
+  Segment s;
+  s.cls = PrimitiveClass::Torus;
+  s.point = c, s.axis = n.normalized(), s.radius = R, s.minor_radius = r;
+  return s;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST(Fuzzy, Trapezoid) {
+  const auto m = Membership::range(1.0, 2.0, 0.5);
+  EXPECT_DOUBLE_EQ(m(0.4), 0.0);
+  EXPECT_DOUBLE_EQ(m(0.75), 0.5);
+  EXPECT_DOUBLE_EQ(m(1.5), 1.0);
+  EXPECT_DOUBLE_EQ(m(2.25), 0.5);
+  EXPECT_DOUBLE_EQ(m(3.0), 0.0);
+  EXPECT_DOUBLE_EQ(m(NAN), 0.0);
+  EXPECT_DOUBLE_EQ(Membership::range(1, 2)(2.0), 1.0);  // crisp edges
+  EXPECT_DOUBLE_EQ(Membership::range(1, 2)(2.0001), 0.0);
+  EXPECT_DOUBLE_EQ(Membership::at_most(1, 2)(-1e9), 1.0);
+  EXPECT_DOUBLE_EQ(Membership::at_least(1, 2)(1.5), 0.5);
+  EXPECT_TRUE(Membership::range(1, 2).within(Membership::range(0, 3)));
+  EXPECT_FALSE(Membership::range(0, 3).within(Membership::range(1, 2)));
+}
+
+TEST(Predicates, HandleOnBodyAndItsLookalikes) {
+  // a mug body (camera-like frame, up = -y) and a handle on its outer wall
+  const Eigen::Vector3d up(0, -1, 0);
+  Context ctx;
+  ctx.up = up;
+  const Segment body = cylinder({0, 0, 1}, up, 0.04, 0.1);
+  const double R = 0.025, k = 0.6;  // handle ring radius; its centre at r_body + k R from the axis
+  const Segment handle = torus({0.04 + k * R, 0, 1}, {0, 0, 1}, R, 0.006);
+  Constraint near{"near", {"handle", "body"}, {{"max", 0.01}}, {}, {}};
+  Constraint inter{"intersects", {"handle", "body"}, {{"tolerance", 0.004}}, {}, {}};
+  Constraint perp{"perpendicular", {"handle", "body"}, {}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(near, {&handle, &body}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(inter, {&handle, &body}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(inter, {&body, &handle}, ctx), 1.0);  // either order
+  EXPECT_DOUBLE_EQ(evaluate(perp, {&handle, &body}, ctx), 1.0);
+  // a ring standing 2 cm beside the body (a distractor): not attached
+  const Segment apart = torus({0.04 + 0.02 + 0.006 + R, 0, 1}, {0, 0, 1}, R, 0.006);
+  EXPECT_DOUBLE_EQ(evaluate(inter, {&apart, &body}, ctx), 0.0);
+  EXPECT_LT(evaluate(near, {&apart, &body}, ctx), 1.0);
+  // a ring above the body's top: not within its height
+  const Segment high = torus({0.04 + k * R, -0.1, 1}, {0, 0, 1}, R, 0.006);
+  EXPECT_DOUBLE_EQ(evaluate(inter, {&high, &body}, ctx), 0.0);
+  // ring plane not containing the axis direction
+  const Segment flat = torus({0.04 + k * R, 0, 1}, up, R, 0.006);
+  EXPECT_DOUBLE_EQ(evaluate(perp, {&flat, &body}, ctx), 0.0);
+  // coaxial, above, same size, distance
+  const Segment neck = cylinder({0, -0.12, 1}, up, 0.012, 0.05);
+  Constraint coax{"coaxial", {"body", "neck"}, {}, {}, {}};
+  Constraint abv{"above", {"neck", "body"}, {}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(coax, {&body, &neck}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(abv, {&neck, &body}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(abv, {&body, &neck}, ctx), 0.0);
+  Constraint same{"same_size", {"a", "b"}, {}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(same, {&body, &body}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(same, {&body, &neck}, ctx), 0.0);
+  Constraint dist{"distance", {"a", "b"}, {{"min", 0.1}, {"max", 0.2}}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(dist, {&body, &neck}, ctx), 1.0);
+  // attributes
+  EXPECT_NEAR(attribute_value(body, "tilt_deg", ctx), 0.0, 1e-9);
+  EXPECT_NEAR(attribute_value(body, "aspect", ctx), 1.25, 1e-12);
+  EXPECT_NEAR(surface_distance(body, {0.1, 0, 1}), 0.06, 1e-12);
+  EXPECT_NEAR(surface_distance(handle, handle.point + Eigen::Vector3d(R, 0, 0)), 0.0, 1e-12);
+}
+
+TEST(Models, ShippedFileLoadsAndSpecializes) {
+  KnowledgeBase kb;
+  load_models(kb, kModels);
+  for (const char* n : {"container", "mug", "cup", "jar", "can", "bottle", "plate", "bowl"}) EXPECT_TRUE(kb.has(n)) << n;
+  const Concept mug = kb.resolve("mug");
+  ASSERT_EQ(mug.parts.size(), 2u);
+  EXPECT_EQ(mug.parts[0].role, "body");  // inherited from container first
+  EXPECT_EQ(mug.parts[1].role, "handle");
+  EXPECT_TRUE(kb.is_a("mug", "container"));
+  EXPECT_FALSE(kb.is_a("plate", "container"));
+  // the inherited radius range was narrowed, the tilt kept
+  int radius = 0, tilt = 0;
+  for (const auto& a : mug.attributes) {
+    radius += a.part == "body" && a.name == "radius";
+    tilt += a.part == "body" && a.name == "tilt_deg";
+    if (a.part == "body" && a.name == "radius") EXPECT_DOUBLE_EQ(a.range.b, 0.03);
+  }
+  EXPECT_EQ(radius, 1);
+  EXPECT_EQ(tilt, 1);
+  // levels of detail: the bottle's neck is fine detail
+  const Concept bottle = kb.resolve("bottle");
+  EXPECT_EQ(select(bottle, "", Detail::Coarse).parts.size(), 1u);
+  EXPECT_EQ(select(bottle, "", Detail::Coarse).constraints.size(), 0u);
+  EXPECT_EQ(select(bottle, "", Detail::Fine).parts.size(), 2u);
+}
+
+TEST(Models, MistakesNameTheFileTheLineAndTheField) {
+  KnowledgeBase kb;
+  const std::string typo = error_of([&] { load_models(kb, std::string(MEREO_SOURCE_DIR) + "/tests/data/model_typo.yaml"); });
+  EXPECT_NE(typo.find("model_typo.yaml:9:"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("field 'maxx'"), std::string::npos) << typo;
+  const std::string cls =
+      error_of([&] { load_models(kb, std::string(MEREO_SOURCE_DIR) + "/tests/data/model_unknown_class.yaml"); });
+  EXPECT_NE(cls.find("model_unknown_class.yaml:5:"), std::string::npos) << cls;
+  EXPECT_NE(cls.find("field 'class'"), std::string::npos) << cls;
+  EXPECT_NE(cls.find("'toroid'"), std::string::npos) << cls;
+  // a misspelt key of a part, an unknown attribute, widening an inherited range, bad YAML
+  const std::string key = error_of([&] {
+    parse_models(kb, "concepts:\n  - name: x\n    parts:\n      - {role: a, clas: cylinder}\n", "k.yaml");
+  });
+  EXPECT_NE(key.find("k.yaml:4:"), std::string::npos) << key;
+  EXPECT_NE(key.find("field 'clas'"), std::string::npos) << key;
+  const std::string attr = error_of([&] {
+    parse_models(kb,
+                 "concepts:\n  - name: x\n    parts: [{role: a, class: cylinder}]\n    attributes:\n"
+                 "      - {part: a, attribute: radius_m, range: [0, 1]}\n",
+                 "a.yaml");
+  });
+  EXPECT_NE(attr.find("a.yaml:5:"), std::string::npos) << attr;
+  EXPECT_NE(attr.find("field 'attribute'"), std::string::npos) << attr;
+  load_models(kb, kModels);
+  const std::string widen = error_of([&] {
+    parse_models(kb,
+                 "concepts:\n  - name: big_mug\n    parent: mug\n    attributes:\n"
+                 "      - {part: body, attribute: radius, range: [0.03, 0.2]}\n",
+                 "w.yaml");
+  });
+  EXPECT_NE(widen.find("w.yaml:5:"), std::string::npos) << widen;
+  EXPECT_NE(widen.find("widens"), std::string::npos) << widen;
+  EXPECT_FALSE(kb.has("big_mug"));  // a failed file adds nothing
+  const std::string yaml = error_of([&] { parse_models(kb, "concepts: [\n", "y.yaml"); });
+  EXPECT_NE(yaml.find("y.yaml:"), std::string::npos) << yaml;
+  EXPECT_NE(error_of([&] { load_models(kb, "/no/such/models.yaml"); }).find("/no/such/models.yaml"), std::string::npos);
+}
+
+// Brute force: sum the joint over every hidden variable (the concept, undecided presences, every
+// quality and satisfaction node), with the soft evidence as likelihood factors.
+double brute_force_posterior(const Concept& c, const Evidence& e) {
+  const int P = int(c.parts.size()), K = int(c.constraints.size());
+  std::vector<std::vector<int>> members(K);
+  for (int k = 0; k < K; ++k)
+    for (const auto& r : c.constraints[k].parts) members[k].push_back(c.part_index(r));
+  const int vars = 1 + P + P + K;  // C, present, quality, satisfied
+  double num = 0, den = 0;
+  for (long mask = 0; mask < (1L << vars); ++mask) {
+    auto bit = [&](int i) { return int((mask >> i) & 1); };
+    const int C = bit(0);
+    double p = C ? c.bayes.prior : 1 - c.bayes.prior;
+    bool consistent = true;
+    for (int i = 0; i < P; ++i) {
+      const int pres = bit(1 + i), q = bit(1 + P + i);
+      if (e.state[i] == PartState::Present && !pres) consistent = false;
+      if (e.state[i] == PartState::Missing && pres) consistent = false;
+      const auto pc = present_cpt(c, i);
+      const double pp = C ? pc.first : pc.second;
+      p *= pres ? pp : 1 - pp;
+      const auto qc = quality_cpt(c, i);
+      const double pq = pres ? (C ? qc.first : qc.second) : 0.5;
+      p *= q ? pq : 1 - pq;
+      if (e.state[i] == PartState::Present) p *= q ? e.quality[i] : 1 - e.quality[i];
+    }
+    for (int k = 0; k < K; ++k) {
+      const int s = bit(1 + 2 * P + k);
+      bool all = true;
+      for (int i : members[k]) all = all && bit(1 + i);
+      const auto sc = satisfied_cpt(c, k);
+      const double ps = all ? (C ? sc.first : sc.second) : 0.5;
+      p *= s ? ps : 1 - ps;
+      if (e.satisfied[k] >= 0) p *= s ? e.satisfied[k] : 1 - e.satisfied[k];
+    }
+    if (!consistent) continue;
+    den += p;
+    if (C) num += p;
+  }
+  return num / den;
+}
+
+TEST(Bayes, PosteriorEqualsBruteForceEnumeration) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> U(0.01, 0.99);
+  int checked = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Concept c;
+    c.name = "random";
+    const int P = 1 + int(rng() % 4), K = int(rng() % 4);
+    for (int i = 0; i < P; ++i) {
+      Part p;
+      p.role = "p" + std::to_string(i);
+      p.cls = "cylinder";
+      p.optional = rng() % 2;
+      c.parts.push_back(p);
+    }
+    for (int k = 0; k < K && P >= 2; ++k) {
+      Constraint con;
+      con.predicate = "near";
+      const int a = int(rng() % P);
+      int b = int(rng() % P);
+      if (b == a) b = (a + 1) % P;
+      con.parts = {c.parts[a].role, c.parts[b].role};
+      c.constraints.push_back(con);
+    }
+    c.bayes.prior = U(rng);
+    c.bayes.present_obligatory = {U(rng), U(rng)};
+    c.bayes.present_optional = {U(rng), U(rng)};
+    c.bayes.quality = {U(rng), U(rng)};
+    c.bayes.satisfied = {U(rng), U(rng)};
+    if (rng() % 2) c.bayes.node["quality:p0"] = {U(rng), U(rng)};
+    Evidence e;
+    for (int i = 0; i < P; ++i) {
+      e.state.push_back(PartState(rng() % 3));
+      e.quality.push_back(e.state.back() == PartState::Present ? U(rng) : 0.0);
+    }
+    for (const auto& con : c.constraints) {
+      bool all = true;
+      for (const auto& r : con.parts) all = all && e.state[c.part_index(r)] == PartState::Present;
+      e.satisfied.push_back(all ? U(rng) : -1.0);
+    }
+    EXPECT_NEAR(posterior(c, e), brute_force_posterior(c, e), 1e-9) << "trial " << trial;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 300);
+}

@@ -36,6 +36,12 @@ std::pair<Concept, std::vector<Segment>> random_problem(std::mt19937_64& rng) {
     const double lo = 0.02 + 0.1 * U(rng);
     c.attributes.push_back({p.role, "radius", Membership::range(lo, lo + 0.1 * U(rng), 0.03 * U(rng)), ""});
   }
+  // interchangeable parts (symmetry breaking) in a third of the problems
+  if (n_parts >= 3 && U(rng) < 0.33) {
+    c.parts[2].cls = c.parts[1].cls;
+    c.parts[1].group = c.parts[2].group = "g";
+    c.parts[2].optional = c.parts[1].optional;
+  }
   const char* preds[] = {"near", "distance", "same_size", "parallel", "above"};
   const int n_constraints = int(rng() % 4);
   for (int k = 0; k < n_constraints; ++k) {

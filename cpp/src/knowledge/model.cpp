@@ -169,6 +169,11 @@ Concept KnowledgeBase::resolve(const std::string& name) const {
     out.bayes = c->bayes;
     out.origin = c->origin;
   }
+  for (const Part& p : out.parts)
+    for (const Part& q : out.parts)
+      if (!p.group.empty() && p.group == q.group && p.cls != q.cls)
+        throw InputError(where(q.origin, "concept " + name) + ": field 'group': parts '" + p.role + "' and '" + q.role +
+                         "' of group '" + p.group + "' differ in class");
   if (out.parts.empty()) throw InputError(where(out.origin, "concept " + name) + ": concept '" + name + "' has no parts");
   return out;
 }

@@ -64,11 +64,12 @@ struct Reader {
   }
 
   Part part(const YAML::Node& n) const {
-    check_keys(n, {"role", "class", "optional", "detail", "missing_score"}, "a part");
+    check_keys(n, {"role", "class", "optional", "detail", "missing_score", "group"}, "a part");
     Part p;
     p.origin = at(n);
     p.role = text(n, "role");
     p.cls = text(n, "class");
+    p.group = text(n, "group", false);
     if (n["optional"]) p.optional = flag(n["optional"], "optional");
     if (n["missing_score"]) {
       p.missing_score = number(n["missing_score"], "missing_score");

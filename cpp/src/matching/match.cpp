@@ -65,6 +65,21 @@ double constraint_product(const Concept& c, const std::vector<int>& a, const std
   return s;
 }
 
+/// Symmetry breaking for interchangeable parts (Part::group): within a group, assigned segments
+/// increase with the part index and missing parts come last. True if part i may take s (>= 0,
+/// or -1 = missing) given the parts of its group assigned so far (-2 = undecided).
+bool group_ok(const Concept& c, const std::vector<int>& a, int i, int s) {
+  const std::string& g = c.parts[i].group;
+  if (g.empty()) return true;
+  for (int j = 0; j < int(c.parts.size()); ++j) {
+    if (j == i || c.parts[j].group != g || a[j] == -2) continue;
+    const int lo = j < i ? a[j] : s, hi = j < i ? s : a[j];  // the earlier part's and the later's
+    if (lo == -1 && hi != -1) return false;                   // missing ones last
+    if (lo >= 0 && hi >= 0 && lo >= hi) return false;         // increasing segments
+  }
+  return true;
+}
+
 struct Prepared {
   const Concept& c;
   const std::vector<Segment>& segs;
@@ -148,12 +163,12 @@ std::vector<Hypothesis> match_exhaustive(const Concept& c, const std::vector<Seg
       return;
     }
     for (int s : pr.domain[i]) {
-      if (used[s]) continue;
+      if (used[s] || !group_ok(c, a, int(i), s)) continue;
       used[s] = 1, a[i] = s;
       rec(i + 1);
       used[s] = 0;
     }
-    if (c.parts[i].optional) {
+    if (c.parts[i].optional && group_ok(c, a, int(i), -1)) {
       a[i] = -1;
       rec(i + 1);
     }
@@ -213,7 +228,7 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
     double m = 0.0;
     for (const auto& [s, u] : values[i]) {
       if (u <= m) break;  // sorted: no later value can beat m
-      if (s >= 0 && used[s]) continue;
+      if ((s >= 0 && used[s]) || !group_ok(c, a, i, s)) continue;
       double v = u;
       if (s >= 0)
         for (int k : pr.touching[i]) {
@@ -237,7 +252,7 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
     }
     const int i = order[depth];
     for (const auto& [s, u] : values[i]) {
-      if (s >= 0 && used[s]) continue;
+      if ((s >= 0 && used[s]) || !group_ok(c, a, i, s)) continue;
       // the factor of this value: its unary score and the constraints it completes
       double f = u;
       if (s >= 0)
@@ -249,7 +264,6 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
       const double next = partial * f;
       if (next * slack < best.floor()) {
         ++st.pruned;
-        if (s >= 0 || f == u) continue;
         continue;
       }
       a[i] = s;

@@ -32,6 +32,10 @@ struct Part {
   bool optional = false;           ///< obligatory parts must be assigned in every hypothesis
   Detail detail = Detail::Coarse;
   double missing_score = 0.5;      ///< eq. 5.5 factor of an optional part left unassigned
+  /// Interchangeable parts (a chair's four legs) share a group name: a hypothesis assigns their
+  /// segments in increasing order (missing ones last), so that permutations of the same segments
+  /// are one hypothesis, not 4! of them. Parts of a group have the same class.
+  std::string group;
   std::string origin;              ///< "file:line:column" where it was defined (messages)
 };
 

@@ -8,7 +8,7 @@ The numeric work happens in C++ (``mereo._mereo``); this package names it::
 """
 from . import _mereo
 from ._mereo import Frame, InputError, Intrinsics, nodes
-from . import extension, io, preview, signal, synthetic
+from . import extension, io, knowledge, preview, signal, synthetic
 from .graph import FrameQueue, Graph, GraphError, NodeError
 
 __version__ = _mereo.__version__
@@ -23,6 +23,7 @@ __all__ = [
     "NodeError",
     "extension",
     "io",
+    "knowledge",
     "nodes",
     "preview",
     "signal",

@@ -240,6 +240,15 @@ void Graph::verify() const {
     } catch (const GraphError& e) {
       throw GraphError(at_line(file_, n.line) + e.what());
     }
+    // What a node checks when it is made (a model file, concept names...) fails here, not on
+    // the first frame.
+    if (n.spec().make) {
+      try {
+        n.spec().make(n.options);
+      } catch (const std::exception& e) {
+        throw GraphError(at_line(file_, n.line) + "node '" + n.name + "' (" + n.kind + "): " + e.what());
+      }
+    }
   }
   // Cycles: Kahn's algorithm; whatever is left lies on or behind a cycle.
   std::map<std::string, int> indegree;

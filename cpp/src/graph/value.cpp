@@ -9,6 +9,7 @@
 #include "mereo/core/frame.hpp"
 #include "mereo/core/segment.hpp"
 #include "mereo/extension/support_plane.hpp"
+#include "mereo/matching/match.hpp"
 
 namespace mereo::graph {
 
@@ -73,6 +74,12 @@ void register_builtin(Registry& r) {
     s.precision(4);
     s << "plane n=(" << p.normal.x() << ", " << p.normal.y() << ", " << p.normal.z() << ") d=" << p.d
       << ", " << p.inlier_count << " inliers, " << p.polygon.size() << "-gon";
+    return s.str();
+  });
+  add<matching::Lattice>(r, "Lattice", [](const matching::Lattice& l) {
+    std::ostringstream s;
+    s << l.hypotheses.size() << " hypotheses, " << l.excludes.size() << " exclusions";
+    if (!l.hypotheses.empty()) s << ", best " << l.hypotheses.front().concept_name << " " << l.hypotheses.front().score;
     return s.str();
   });
   add<std::vector<Segment>>(r, "Segments", [](const std::vector<Segment>& s) {

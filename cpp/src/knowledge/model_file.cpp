@@ -187,6 +187,24 @@ void parse_models(KnowledgeBase& kb, const std::string& yaml_text, const std::st
   kb = std::move(next);
 }
 
+const std::vector<std::pair<std::string, std::string>>& builtin_model_files();  // generated
+
+const KnowledgeBase& builtin_models() {
+  static const KnowledgeBase kb = [] {
+    KnowledgeBase k;
+    for (const auto& [name, text] : builtin_model_files()) parse_models(k, text, name);
+    return k;
+  }();
+  return kb;
+}
+
+KnowledgeBase models_from(const std::string& spec) {
+  if (spec.empty()) return builtin_models();
+  KnowledgeBase kb = builtin_models();  // a file may specialize the shipped concepts
+  load_models(kb, spec);
+  return kb;
+}
+
 void load_models(KnowledgeBase& kb, const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the model file");

@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'identity', 'checksum', 'fail_on_frame']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'match_models', 'identity', 'checksum', 'fail_on_frame']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -80,6 +80,21 @@ def identity(**kwargs) -> mereo._mereo.NodeTemplate:
         frame (Frame): any frame
     Outputs:
         frame (Frame): the same frame
+    """
+def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    Object hypotheses: concepts matched to the segments by branch and bound, with exclusion arcs.
+    
+    Inputs:
+        segments (Segments): the frame's segments (camera frame)
+        frame (Frame, optional): the frame; with a pose, 'up' comes from it (else the camera's -y)
+    Outputs:
+        lattice (Lattice): hypotheses (best first per concept) and exclusion arcs
+    Options:
+        models (str, default mug,cup,jar,can,bottle,plate,bowl): comma-separated concepts to look for
+        file (str, default ): a YAML model file (empty: the shipped models)
+        best (int, default 10, 1..1000): hypotheses kept per concept
+        min_score (float, default 0.05, 0..1): hypotheses below this score are dropped
     """
 def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
     """

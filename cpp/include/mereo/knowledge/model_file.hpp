@@ -26,6 +26,14 @@
 
 namespace mereo::knowledge {
 
+/// The shipped models (graphs/models/*.yaml, compiled in): mug, cup, jar, can, bottle, plate,
+/// bowl and their parent `container`.
+const KnowledgeBase& builtin_models();
+
+/// The models named by `spec`: a path to a YAML file (ends in .yaml or .yml), or "" for the
+/// built-in ones.
+KnowledgeBase models_from(const std::string& spec);
+
 /// Adds the concepts of a YAML model file to `kb` and validates them all.
 void load_models(KnowledgeBase& kb, const std::string& path);
 /// The same for YAML text (`file_name` is used in messages).

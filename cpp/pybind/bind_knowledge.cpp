@@ -1,0 +1,205 @@
+// The object layer: segments, object models (concepts, parts, attributes, constraints, the
+// knowledge base, model files) and matching. Python-defined predicates are called with the GIL.
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "converters.hpp"
+#include "mereo/core/segment.hpp"
+#include "mereo/knowledge/bayes.hpp"
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/knowledge/predicates.hpp"
+#include "mereo/matching/match.hpp"
+
+namespace py = pybind11;
+namespace kn = mereo::knowledge;
+namespace mt = mereo::matching;
+
+void bind_knowledge(py::module_& m) {
+  using mereo::Segment;
+  py::class_<Segment>(m, "Segment",
+                      "A primitive found in the data (a data instance): class, parameters (metres, camera "
+                      "frame), inliers, residual, colour.")
+      .def(py::init([](const std::string& cls, Eigen::Vector3d point, Eigen::Vector3d axis, double radius,
+                       double height, double minor_radius, double d) {
+             Segment s;
+             s.cls = mereo::primitive_class(cls);
+             s.point = point, s.axis = axis.normalized(), s.radius = radius, s.height = height;
+             s.minor_radius = minor_radius, s.d = d;
+             return s;
+           }),
+           py::arg("cls"), py::arg("point") = Eigen::Vector3d::Zero(), py::arg("axis") = Eigen::Vector3d::UnitZ(),
+           py::arg("radius") = 0.0, py::arg("height") = 0.0, py::arg("minor_radius") = 0.0, py::arg("d") = 0.0)
+      .def_property("cls", [](const Segment& s) { return std::string(mereo::to_string(s.cls)); },
+                    [](Segment& s, const std::string& c) { s.cls = mereo::primitive_class(c); })
+      .def_readwrite("id", &Segment::id)
+      .def_readwrite("point", &Segment::point)
+      .def_readwrite("axis", &Segment::axis)
+      .def_readwrite("d", &Segment::d)
+      .def_readwrite("radius", &Segment::radius)
+      .def_readwrite("minor_radius", &Segment::minor_radius)
+      .def_readwrite("height", &Segment::height)
+      .def_readwrite("inliers", &Segment::inliers)
+      .def_readwrite("residual", &Segment::residual)
+      .def_readwrite("hue", &Segment::hue)
+      .def("__repr__", [](const Segment& s) {
+        return "<mereo.Segment " + std::string(mereo::to_string(s.cls)) + " r=" + std::to_string(s.radius) + ">";
+      });
+
+  py::class_<kn::Membership>(m, "Membership", "A trapezoidal fuzzy membership (a, b, c, d).")
+      .def(py::init([](double a, double b, double c, double d) { return kn::Membership{a, b, c, d}; }))
+      .def_static("range", &kn::Membership::range, py::arg("lo"), py::arg("hi"), py::arg("margin") = 0.0)
+      .def_static("at_most", &kn::Membership::at_most, py::arg("full"), py::arg("zero"))
+      .def_static("at_least", &kn::Membership::at_least, py::arg("zero"), py::arg("full"))
+      .def("__call__", &kn::Membership::operator(), py::arg("x"))
+      .def_readwrite("a", &kn::Membership::a)
+      .def_readwrite("b", &kn::Membership::b)
+      .def_readwrite("c", &kn::Membership::c)
+      .def_readwrite("d", &kn::Membership::d)
+      .def("__repr__", [](const kn::Membership& x) { return "Membership" + x.str(); });
+
+  py::enum_<kn::Detail>(m, "Detail").value("coarse", kn::Detail::Coarse).value("fine", kn::Detail::Fine);
+  py::class_<kn::Part>(m, "Part", "A part of a concept: a unique role and a class (a primitive or a concept).")
+      .def(py::init([](std::string role, std::string cls, bool optional, double missing_score, kn::Detail detail,
+                       std::string group) {
+             kn::Part p;
+             p.role = std::move(role), p.cls = std::move(cls), p.optional = optional;
+             p.missing_score = missing_score, p.detail = detail, p.group = std::move(group);
+             return p;
+           }),
+           py::arg("role"), py::arg("cls"), py::arg("optional") = false, py::arg("missing_score") = 0.5,
+           py::arg("detail") = kn::Detail::Coarse, py::arg("group") = "")
+      .def_readwrite("role", &kn::Part::role)
+      .def_readwrite("cls", &kn::Part::cls)
+      .def_readwrite("optional", &kn::Part::optional)
+      .def_readwrite("missing_score", &kn::Part::missing_score)
+      .def_readwrite("detail", &kn::Part::detail)
+      .def_readwrite("group", &kn::Part::group);
+  py::class_<kn::Attribute>(m, "Attribute", "A fuzzy range over one attribute of one part.")
+      .def(py::init([](std::string part, std::string name, kn::Membership range) {
+             return kn::Attribute{std::move(part), std::move(name), range, ""};
+           }),
+           py::arg("part"), py::arg("name"), py::arg("range"))
+      .def_readwrite("part", &kn::Attribute::part)
+      .def_readwrite("name", &kn::Attribute::name)
+      .def_readwrite("range", &kn::Attribute::range);
+  py::class_<kn::Context>(m, "Context").def(py::init<>()).def_readwrite("up", &kn::Context::up);
+  py::class_<kn::Constraint>(m, "Constraint",
+                             "A fuzzy relation between parts: a built-in predicate by name, or `custom`: a "
+                             "Python callable (segments, constraint, context) -> value in [0, 1].")
+      .def(py::init([](std::string predicate, std::vector<std::string> parts, std::map<std::string, double> params,
+                       py::object custom) {
+             kn::Constraint c;
+             c.predicate = std::move(predicate), c.parts = std::move(parts), c.params = std::move(params);
+             if (!custom.is_none()) {
+               auto fn = std::make_shared<py::object>(custom);
+               c.custom = [fn](const std::vector<const Segment*>& segs, const kn::Constraint& con,
+                               const kn::Context& ctx) {
+                 py::gil_scoped_acquire gil;
+                 std::vector<Segment> copies;
+                 for (const Segment* s : segs) copies.push_back(*s);
+                 return (*fn)(copies, con, ctx).cast<double>();
+               };
+             }
+             return c;
+           }),
+           py::arg("predicate"), py::arg("parts"), py::arg("params") = std::map<std::string, double>{},
+           py::arg("custom") = py::none())
+      .def_readwrite("predicate", &kn::Constraint::predicate)
+      .def_readwrite("parts", &kn::Constraint::parts)
+      .def_readwrite("params", &kn::Constraint::params);
+  py::class_<kn::Modality>(m, "Modality")
+      .def(py::init([](std::string name, std::vector<std::string> parts) { return kn::Modality{name, parts}; }),
+           py::arg("name"), py::arg("parts"))
+      .def_readwrite("name", &kn::Modality::name)
+      .def_readwrite("parts", &kn::Modality::parts);
+  py::class_<kn::Concept>(m, "Concept", "An object model: parts, attributes, constraints, modalities, a parent.")
+      .def(py::init<>())
+      .def_readwrite("name", &kn::Concept::name)
+      .def_readwrite("parent", &kn::Concept::parent)
+      .def_readwrite("description", &kn::Concept::description)
+      .def_readwrite("parts", &kn::Concept::parts)
+      .def_readwrite("attributes", &kn::Concept::attributes)
+      .def_readwrite("constraints", &kn::Concept::constraints)
+      .def_readwrite("modalities", &kn::Concept::modalities)
+      .def_property("prior", [](const kn::Concept& c) { return c.bayes.prior; },
+                    [](kn::Concept& c, double p) { c.bayes.prior = p; })
+      .def("__repr__", [](const kn::Concept& c) {
+        std::string parts;
+        for (const auto& p : c.parts) parts += (parts.empty() ? "" : ", ") + p.role + ": " + p.cls;
+        return "<mereo.Concept " + c.name + " (" + parts + ")>";
+      });
+  py::class_<kn::KnowledgeBase>(m, "KnowledgeBase", "Concepts and their specialization links.")
+      .def(py::init<>())
+      .def("add", &kn::KnowledgeBase::add, py::arg("concept"))
+      .def("has", &kn::KnowledgeBase::has, py::arg("name"))
+      .def("get", &kn::KnowledgeBase::get, py::arg("name"))
+      .def("names", &kn::KnowledgeBase::names)
+      .def("resolve", &kn::KnowledgeBase::resolve, py::arg("name"),
+           "The concept with what it inherits; raises InputError naming the origin and field of a mistake.")
+      .def("validate", &kn::KnowledgeBase::validate)
+      .def("is_a", &kn::KnowledgeBase::is_a, py::arg("cls"), py::arg("ancestor"))
+      .def("load", [](kn::KnowledgeBase& kb, const std::string& path) { kn::load_models(kb, path); }, py::arg("path"),
+           "Adds the concepts of a YAML model file.")
+      .def("parse", [](kn::KnowledgeBase& kb, const std::string& text, const std::string& name) {
+             kn::parse_models(kb, text, name);
+           }, py::arg("text"), py::arg("name") = "<text>");
+  m.def("builtin_models", &kn::builtin_models, "The shipped models (graphs/models/*.yaml).");
+  m.def("select", &kn::select, py::arg("concept"), py::arg("modality") = "", py::arg("detail") = kn::Detail::Fine,
+        "One modality's parts at one level of detail, with their attributes and constraints.");
+
+  py::class_<mt::Hypothesis>(m, "Hypothesis", "Segments assigned to a concept's parts (-1 = missing).")
+      .def_readonly("concept", &mt::Hypothesis::concept_name)
+      .def_readonly("assignment", &mt::Hypothesis::assignment)
+      .def_readonly("score", &mt::Hypothesis::score)
+      .def_readonly("posterior", &mt::Hypothesis::posterior)
+      .def("__repr__", [](const mt::Hypothesis& h) {
+        return "<mereo.Hypothesis " + h.concept_name + " score " + std::to_string(h.score) + ">";
+      });
+  py::class_<mt::MatchStats>(m, "MatchStats")
+      .def_readonly("expanded", &mt::MatchStats::expanded)
+      .def_readonly("pruned", &mt::MatchStats::pruned)
+      .def_readonly("complete", &mt::MatchStats::complete);
+  py::class_<mt::Lattice>(m, "Lattice", "Hypotheses and the exclusion arcs between those sharing a segment.")
+      .def_readonly("hypotheses", &mt::Lattice::hypotheses)
+      .def_readonly("excludes", &mt::Lattice::excludes)
+      .def_readonly("stats", &mt::Lattice::stats);
+  mereo::py_util::register_converter(
+      "Lattice", {[](const mereo::graph::Value& v) { return py::cast(v.get<mt::Lattice>()); },
+                  [](const py::handle& h) { return mereo::graph::Value::make<mt::Lattice>(h.cast<mt::Lattice>()); }});
+  mereo::py_util::register_converter(
+      "Segments",
+      {[](const mereo::graph::Value& v) { return py::cast(v.get<std::vector<Segment>>()); },
+       [](const py::handle& h) { return mereo::graph::Value::make<std::vector<Segment>>(h.cast<std::vector<Segment>>()); }});
+
+  auto options = [](int best, double min_score, std::optional<Eigen::Vector3d> up) {
+    mt::MatchOptions o;
+    o.best = best, o.min_score = min_score;
+    if (up) o.context.up = *up;
+    return o;
+  };
+  m.def("match",
+        [options](const kn::Concept& c, const std::vector<Segment>& segs, int best, double min_score,
+                  std::optional<Eigen::Vector3d> up, bool exhaustive) {
+          mt::MatchStats st;
+          std::vector<mt::Hypothesis> h;
+          {
+            py::gil_scoped_release release;  // Python predicates take it back
+            h = exhaustive ? mt::match_exhaustive(c, segs, options(best, min_score, up), &st)
+                           : mt::match(c, segs, options(best, min_score, up), &st);
+          }
+          return py::make_tuple(h, st);
+        },
+        py::arg("concept"), py::arg("segments"), py::arg("best") = 10, py::arg("min_score") = 1e-6,
+        py::arg("up") = py::none(), py::arg("exhaustive") = false,
+        "The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats).");
+  m.def("recognize",
+        [options](const kn::KnowledgeBase& kb, const std::vector<std::string>& names, const std::vector<Segment>& segs,
+                  int best, double min_score, std::optional<Eigen::Vector3d> up) {
+          py::gil_scoped_release release;
+          return mt::recognize(kb, names, segs, options(best, min_score, up));
+        },
+        py::arg("kb"), py::arg("concepts"), py::arg("segments"), py::arg("best") = 10, py::arg("min_score") = 1e-6,
+        py::arg("up") = py::none(), "Every concept matched (in parallel): the lattice of hypotheses.");
+}

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <stdexcept>
 
 namespace mereo::knowledge {
@@ -179,27 +180,50 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
   throw std::invalid_argument("unknown attribute '" + name + "'");
 }
 
-double evaluate(const Constraint& c, const std::vector<const Segment*>& parts, const Context& ctx) {
-  double v = 0.0;
+CompiledConstraint compile(const Constraint& c) {
+  auto clamp01 = [](double v) { return std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0); };
   if (c.custom) {
-    v = c.custom(parts, c, ctx);
-  } else {
-    if (parts.size() < 2) throw std::invalid_argument("predicate '" + c.predicate + "' needs two parts");
-    const Segment& a = *parts[0];
-    const Segment& b = *parts[1];
-    const std::string& p = c.predicate;
-    if (p == "near") v = near(a, b, c);
-    else if (p == "intersects") v = intersects(a, b, c);
-    else if (p == "parallel") v = has_axis(a.cls) && has_axis(b.cls) ? parallel(a, b, c) : 0.0;
-    else if (p == "perpendicular") v = has_axis(a.cls) && has_axis(b.cls) ? perpendicular(a, b, c) : 0.0;
-    else if (p == "coaxial") v = has_axis(a.cls) && has_axis(b.cls) ? coaxial(a, b, c) : 0.0;
-    else if (p == "above") v = above(a, b, c, ctx);
-    else if (p == "on") v = on(a, b, c, ctx);
-    else if (p == "same_size") v = same_size(a, b, c);
-    else if (p == "distance") v = distance(a, b, c);
-    else throw std::invalid_argument("unknown predicate '" + p + "'");
+    auto fn = c.custom;
+    auto con = std::make_shared<const Constraint>(c);
+    return [fn, con, clamp01](const std::vector<const Segment*>& parts, const Context& ctx) {
+      return clamp01(fn(parts, *con, ctx));
+    };
   }
-  return std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0);
+  // the predicate functions read their parameters from a private copy of the constraint
+  auto con = std::make_shared<const Constraint>(c);
+  using Fn = double (*)(const Segment&, const Segment&, const Constraint&, const Context&);
+  Fn f = nullptr;
+  const std::string& p = c.predicate;
+  if (p == "near") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return near(a, b, k); };
+  else if (p == "intersects")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return intersects(a, b, k); };
+  else if (p == "parallel")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
+      return has_axis(a.cls) && has_axis(b.cls) ? parallel(a, b, k) : 0.0;
+    };
+  else if (p == "perpendicular")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
+      return has_axis(a.cls) && has_axis(b.cls) ? perpendicular(a, b, k) : 0.0;
+    };
+  else if (p == "coaxial")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
+      return has_axis(a.cls) && has_axis(b.cls) ? coaxial(a, b, k) : 0.0;
+    };
+  else if (p == "above") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return above(a, b, k, x); };
+  else if (p == "on") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return on(a, b, k, x); };
+  else if (p == "same_size")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return same_size(a, b, k); };
+  else if (p == "distance")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return distance(a, b, k); };
+  else throw std::invalid_argument("unknown predicate '" + p + "'");
+  return [f, con, clamp01](const std::vector<const Segment*>& parts, const Context& ctx) {
+    if (parts.size() < 2) throw std::invalid_argument("predicate '" + con->predicate + "' needs two parts");
+    return clamp01(f(*parts[0], *parts[1], *con, ctx));
+  };
+}
+
+double evaluate(const Constraint& c, const std::vector<const Segment*>& parts, const Context& ctx) {
+  return compile(c)(parts, ctx);
 }
 
 double surface_distance(const Segment& s, const Eigen::Vector3d& p) {

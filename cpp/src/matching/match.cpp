@@ -43,7 +43,8 @@ class Best {
 /// Constraint values of the constraints whose parts are all assigned (none missing), in index
 /// order, for a complete or partial assignment (-1 missing, -2 undecided).
 double constraint_product(const Concept& c, const std::vector<int>& a, const std::vector<Segment>& segs,
-                          const Context& ctx, std::vector<double>* values = nullptr) {
+                          const Context& ctx, std::vector<double>* values = nullptr,
+                          const std::vector<knowledge::CompiledConstraint>* compiled = nullptr) {
   double s = 1.0;
   std::vector<const Segment*> parts;
   for (std::size_t k = 0; k < c.constraints.size(); ++k) {
@@ -58,7 +59,7 @@ double constraint_product(const Concept& c, const std::vector<int>& a, const std
       }
       parts.push_back(&segs[a[i]]);
     }
-    const double v = all ? knowledge::evaluate(con, parts, ctx) : -1.0;
+    const double v = !all ? -1.0 : compiled ? (*compiled)[k](parts, ctx) : knowledge::evaluate(con, parts, ctx);
     if (values) values->push_back(v);
     if (all) s *= v;
   }
@@ -86,8 +87,10 @@ struct Prepared {
   const MatchOptions& o;
   std::vector<std::vector<double>> unary;  // [part][segment]
   std::vector<std::vector<int>> domain;    // [part]: segments of the part's class
-  /// constraints touching each part
+  /// constraints touching each part, and each constraint's part indices
   std::vector<std::vector<int>> touching;
+  std::vector<std::vector<int>> members;
+  std::vector<knowledge::CompiledConstraint> compiled;
 
   Prepared(const Concept& c_, const std::vector<Segment>& s_, const MatchOptions& o_) : c(c_), segs(s_), o(o_) {
     const std::size_t P = c.parts.size();
@@ -100,20 +103,34 @@ struct Prepared {
           domain[i].push_back(int(j));
           unary[i][j] = part_score(c, int(i), segs[j], o.context);
         }
+    members.resize(c.constraints.size());
+    for (const auto& con : c.constraints) compiled.push_back(knowledge::compile(con));
     for (std::size_t k = 0; k < c.constraints.size(); ++k)
       for (const auto& role : c.constraints[k].parts) {
         const int i = c.part_index(role);
+        members[k].push_back(i);
         if (std::find(touching[i].begin(), touching[i].end(), int(k)) == touching[i].end())
           touching[i].push_back(int(k));
       }
   }
 
+  /// The hypothesis of a complete assignment: hypothesis_score() and judge(), computed with the
+  /// cached memberships and compiled constraints (the same numbers, in the same order).
   Hypothesis make(const std::vector<int>& a) const {
     Hypothesis h;
     h.concept_name = c.name;
     h.assignment = a;
-    h.score = hypothesis_score(c, a, segs, o.context);
-    h.posterior = judge(c, a, segs, o.context);
+    knowledge::Evidence e;
+    double s = 1.0;
+    for (std::size_t i = 0; i < c.parts.size(); ++i) {
+      const double q = a[i] >= 0 ? unary[i][a[i]] : 0.0;
+      s *= a[i] >= 0 ? q : c.parts[i].missing_score;
+      e.state.push_back(a[i] >= 0 ? knowledge::PartState::Present
+                                  : a[i] == -1 ? knowledge::PartState::Missing : knowledge::PartState::Undecided);
+      e.quality.push_back(q);
+    }
+    h.score = s * constraint_product(c, a, segs, o.context, &e.satisfied, &compiled);
+    h.posterior = knowledge::posterior(c, e);
     return h;
   }
 };
@@ -209,11 +226,9 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
   std::vector<const Segment*> args;
   // value of constraint k if all its parts are assigned (none missing) with part `i` set to `s`
   auto constraint_with = [&](int k, int i, int s, bool& complete) {
-    const auto& con = c.constraints[k];
     args.clear();
     complete = true;
-    for (const auto& role : con.parts) {
-      const int j = c.part_index(role);
+    for (const int j : pr.members[k]) {
       const int v = j == i ? s : a[j];
       if (v < 0) {
         complete = false;
@@ -221,7 +236,7 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
       }
       args.push_back(&segs[v]);
     }
-    return knowledge::evaluate(con, args, ctx);
+    return pr.compiled[k](args, ctx);
   };
   // forward checking: the best factor part i can still bring, given the assigned parts
   auto best_value = [&](int i) {

@@ -21,6 +21,7 @@
 //  - distance(a, b; min = 0, max, margin = 0.01 m): centre distance within [min, max].
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,11 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
 /// The value of a constraint on the parts' data (custom or built-in), clamped to [0, 1].
 double evaluate(const Constraint& c, const std::vector<const Segment*>& parts,
                 const Context& context);
+
+/// A constraint prepared for repeated evaluation (the predicate looked up and its parameters
+/// read once): compile(c)(parts, context) == evaluate(c, parts, context), exactly.
+using CompiledConstraint = std::function<double(const std::vector<const Segment*>& parts, const Context& context)>;
+CompiledConstraint compile(const Constraint& c);
 
 /// Distance from p to the surface of s (its solid for closed shapes); >= 0 outside.
 double surface_distance(const Segment& s, const Eigen::Vector3d& p);

@@ -154,6 +154,7 @@ void bind_knowledge(py::module_& m) {
       .def_readonly("assignment", &mt::Hypothesis::assignment)
       .def_readonly("score", &mt::Hypothesis::score)
       .def_readonly("posterior", &mt::Hypothesis::posterior)
+      .def_readonly("children", &mt::Hypothesis::children, "per part whose class is a concept: its sub-hypothesis")
       .def("__repr__", [](const mt::Hypothesis& h) {
         return "<mereo.Hypothesis " + h.concept_name + " score " + std::to_string(h.score) + ">";
       });
@@ -181,19 +182,21 @@ void bind_knowledge(py::module_& m) {
   };
   m.def("match",
         [options](const kn::Concept& c, const std::vector<Segment>& segs, int best, double min_score,
-                  std::optional<Eigen::Vector3d> up, bool exhaustive) {
+                  std::optional<Eigen::Vector3d> up, bool exhaustive, const kn::KnowledgeBase* kb) {
           mt::MatchStats st;
           std::vector<mt::Hypothesis> h;
           {
             py::gil_scoped_release release;  // Python predicates take it back
-            h = exhaustive ? mt::match_exhaustive(c, segs, options(best, min_score, up), &st)
-                           : mt::match(c, segs, options(best, min_score, up), &st);
+            auto o = options(best, min_score, up);
+            o.kb = kb;
+            h = exhaustive ? mt::match_exhaustive(c, segs, o, &st) : mt::match(c, segs, o, &st);
           }
           return py::make_tuple(h, st);
         },
         py::arg("concept"), py::arg("segments"), py::arg("best") = 10, py::arg("min_score") = 1e-6,
-        py::arg("up") = py::none(), py::arg("exhaustive") = false,
-        "The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats).");
+        py::arg("up") = py::none(), py::arg("exhaustive") = false, py::arg("kb") = nullptr,
+        "The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats). "
+        "`kb` resolves parts whose class is a concept.");
   m.def("recognize",
         [options](const kn::KnowledgeBase& kb, const std::vector<std::string>& names, const std::vector<Segment>& segs,
                   int best, double min_score, std::optional<Eigen::Vector3d> up) {

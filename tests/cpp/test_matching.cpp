@@ -181,3 +181,71 @@ TEST(Matching, LatticeLinksHypothesesThatShareASegment) {
   // the posterior ranks a complete, well-fitting can above a poor one
   for (const auto& h : l.hypotheses) EXPECT_GT(h.posterior, 0.0);
 }
+
+TEST(Matching, PartsThatAreConceptsMatchTheirSubHypothesesFirst) {
+  KnowledgeBase kb;
+  load_models(kb, kModels);
+  // a pair of mugs side by side: parts whose class is a concept, interchangeable
+  parse_models(kb, R"(
+concepts:
+  - name: mug_pair
+    parts:
+      - {role: first, class: mug, group: mugs}
+      - {role: second, class: mug, group: mugs}
+    constraints:
+      - {predicate: distance, parts: [first, second], min: 0.05, max: 0.4, margin: 0.05}
+)",
+               "pair.yaml");
+  const Eigen::Vector3d up(0, -1, 0);
+  auto mug_at = [&](double x, std::vector<Segment>& out) {
+    Segment body;
+    body.cls = PrimitiveClass::Cylinder;
+    body.point = {x, 0, 1}, body.axis = up, body.radius = 0.04, body.height = 0.1;
+    Segment handle;
+    handle.cls = PrimitiveClass::Torus;
+    handle.point = {x + 0.04 + 0.6 * 0.025, 0, 1}, handle.axis = {0, 0, 1}, handle.radius = 0.025;
+    handle.minor_radius = 0.006;
+    out.push_back(body);
+    out.push_back(handle);
+  };
+  std::vector<Segment> segs;
+  mug_at(0.0, segs);   // 0, 1
+  mug_at(0.25, segs);  // 2, 3
+  mug_at(2.0, segs);   // 4, 5: too far for a pair
+  MatchOptions o;
+  o.context.up = up;
+  o.kb = &kb;
+  const Concept pair = select(kb.resolve("mug_pair"));
+  MatchStats se, sb;
+  const auto ex = match_exhaustive(pair, segs, o, &se);
+  const auto bb = match(pair, segs, o, &sb);
+  ASSERT_FALSE(bb.empty());
+  ASSERT_EQ(ex.size(), bb.size());
+  for (std::size_t i = 0; i < ex.size(); ++i) {
+    EXPECT_EQ(ex[i].assignment, bb[i].assignment);
+    EXPECT_EQ(ex[i].score, bb[i].score);
+  }
+  // the best pair: the two near mugs, each a complete mug hypothesis
+  ASSERT_EQ(bb[0].children.size(), 2u);
+  EXPECT_EQ(bb[0].children[0].assignment, (std::vector<int>{0, 1}));
+  EXPECT_EQ(bb[0].children[1].assignment, (std::vector<int>{2, 3}));
+  EXPECT_EQ(bb[0].assignment, (std::vector<int>{0, 2}));
+  EXPECT_GT(bb[0].score, 0.9);
+  for (std::size_t i = 1; i < bb.size(); ++i) EXPECT_LT(bb[i].score, 0.9) << "a far pair or a repeated one";
+  // in the lattice, the pair excludes the single mugs it is made of
+  const Lattice l = recognize(kb, {"mug_pair", "mug"}, segs, o);
+  int pair_index = -1;
+  for (std::size_t i = 0; i < l.hypotheses.size(); ++i)
+    if (l.hypotheses[i].concept_name == "mug_pair" && l.hypotheses[i].assignment == std::vector<int>{0, 2}) pair_index = int(i);
+  ASSERT_GE(pair_index, 0);
+  int excluded_mugs = 0;
+  for (const auto& [i, j] : l.excludes)
+    if (i == pair_index || j == pair_index) {
+      const auto& other = l.hypotheses[i == pair_index ? j : i];
+      excluded_mugs += other.concept_name == "mug" && (other.assignment[0] == 0 || other.assignment[0] == 2);
+    }
+  EXPECT_GE(excluded_mugs, 2);
+  // without a knowledge base, a concept part is an error, not a silent empty result
+  MatchOptions no_kb;
+  EXPECT_THROW(match(pair, segs, no_kb), std::invalid_argument);
+}

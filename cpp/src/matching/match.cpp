@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <functional>
+#include <iterator>
+#include <stdexcept>
 #include <numeric>
 
 #include <tbb/parallel_for.h>
@@ -85,8 +87,13 @@ struct Prepared {
   const Concept& c;
   const std::vector<Segment>& segs;
   const MatchOptions& o;
-  std::vector<std::vector<double>> unary;  // [part][segment]
-  std::vector<std::vector<int>> domain;    // [part]: segments of the part's class
+  /// The segments, then one stand-in per hypothesis of a sub-concept (a part whose class is a
+  /// concept): a copy of the sub-hypothesis's first segment, its anchor for constraints.
+  std::vector<Segment> ext;
+  std::vector<Hypothesis> subs;              // [ext index - segs.size()]
+  std::vector<std::vector<int>> uses;        // the real segments each sub-hypothesis takes
+  std::vector<std::vector<double>> unary;  // [part][ext index]
+  std::vector<std::vector<int>> domain;    // [part]: ext indices of the part's class
   /// constraints touching each part, and each constraint's part indices
   std::vector<std::vector<int>> touching;
   std::vector<std::vector<int>> members;
@@ -94,15 +101,54 @@ struct Prepared {
 
   Prepared(const Concept& c_, const std::vector<Segment>& s_, const MatchOptions& o_) : c(c_), segs(s_), o(o_) {
     const std::size_t P = c.parts.size();
-    unary.assign(P, std::vector<double>(segs.size(), 0.0));
+    ext = segs;
+    std::vector<std::pair<std::size_t, std::size_t>> sub_range(P, {0, 0});  // ext indices per part
+    for (std::size_t i = 0; i < P; ++i) {
+      if (knowledge::is_primitive(c.parts[i].cls)) continue;
+      // parts of the same concept class share one set of candidates (and so one order, which
+      // the symmetry breaking of groups relies on)
+      bool shared = false;
+      for (std::size_t j = 0; j < i && !shared; ++j)
+        if (c.parts[j].cls == c.parts[i].cls) sub_range[i] = sub_range[j], shared = true;
+      if (shared) continue;
+      if (!o.kb) throw std::invalid_argument("part '" + c.parts[i].role + "' of '" + c.name + "' is a " +
+                                             c.parts[i].cls + ": matching it needs MatchOptions::kb");
+      if (o.depth >= 8) throw std::invalid_argument("concepts nested deeper than 8 parts (a cycle?) at '" + c.name + "'");
+      MatchOptions sub = o;
+      sub.best = o.sub_best;
+      sub.depth = o.depth + 1;
+      const auto hyps = match(knowledge::select(o.kb->resolve(c.parts[i].cls)), segs, sub);
+      sub_range[i] = {ext.size(), ext.size() + hyps.size()};
+      for (const auto& h : hyps) {
+        std::vector<int> taken;
+        collect(h, taken);
+        if (taken.empty()) continue;
+        ext.push_back(segs[taken.front()]);
+        subs.push_back(h);
+        uses.push_back(taken);
+      }
+      sub_range[i].second = ext.size();
+    }
+    unary.assign(P, std::vector<double>(ext.size(), 0.0));
     domain.resize(P);
     touching.resize(P);
-    for (std::size_t i = 0; i < P; ++i)
-      for (std::size_t j = 0; j < segs.size(); ++j)
-        if (knowledge::is_primitive(c.parts[i].cls) && to_string(segs[j].cls) == c.parts[i].cls) {
-          domain[i].push_back(int(j));
-          unary[i][j] = part_score(c, int(i), segs[j], o.context);
-        }
+    for (std::size_t i = 0; i < P; ++i) {
+      if (knowledge::is_primitive(c.parts[i].cls)) {
+        for (std::size_t j = 0; j < segs.size(); ++j)
+          if (to_string(segs[j].cls) == c.parts[i].cls) {
+            domain[i].push_back(int(j));
+            unary[i][j] = part_score(c, int(i), segs[j], o.context);
+          }
+        continue;
+      }
+      for (std::size_t j = sub_range[i].first; j < sub_range[i].second; ++j) {
+        double m = subs[j - segs.size()].score;  // the sub-hypothesis's score, times this part's ranges
+        for (const auto& a : c.attributes)
+          if (a.part == c.parts[i].role) m *= a.range(knowledge::attribute_value(ext[j], a.name, o.context));
+        domain[i].push_back(int(j));
+        unary[i][j] = m;
+      }
+    }
     members.resize(c.constraints.size());
     for (const auto& con : c.constraints) compiled.push_back(knowledge::compile(con));
     for (std::size_t k = 0; k < c.constraints.size(); ++k)
@@ -112,6 +158,43 @@ struct Prepared {
         if (std::find(touching[i].begin(), touching[i].end(), int(k)) == touching[i].end())
           touching[i].push_back(int(k));
       }
+  }
+
+  /// The real segments of a hypothesis (its own and its sub-hypotheses').
+  static void collect(const Hypothesis& h, std::vector<int>& out) {
+    for (std::size_t i = 0; i < h.assignment.size(); ++i) {
+      if (i < h.children.size() && !h.children[i].assignment.empty())
+        collect(h.children[i], out);
+      else if (h.assignment[i] >= 0)
+        out.push_back(h.assignment[i]);
+    }
+  }
+  /// Whether ext value v can be assigned (its segments are free), and taking / releasing it.
+  bool available(const std::vector<char>& used, int v) const {
+    if (v < int(segs.size())) return !used[v];
+    for (int s : uses[v - segs.size()])
+      if (used[s]) return false;
+    return true;
+  }
+  void take(std::vector<char>& used, int v, char on) const {
+    if (v < int(segs.size()))
+      used[v] = on;
+    else
+      for (int s : uses[v - segs.size()]) used[s] = on;
+  }
+  /// Search results in the caller's terms: a sub-concept's part gets the sub-hypothesis's first
+  /// segment in `assignment` and the sub-hypothesis in `children`.
+  std::vector<Hypothesis> finish(std::vector<Hypothesis> hyps) const {
+    if (subs.empty()) return hyps;
+    for (auto& h : hyps) {
+      h.children.assign(h.assignment.size(), Hypothesis{});
+      for (std::size_t i = 0; i < h.assignment.size(); ++i)
+        if (h.assignment[i] >= int(segs.size())) {
+          h.children[i] = subs[h.assignment[i] - segs.size()];
+          h.assignment[i] = uses[h.assignment[i] - segs.size()].front();
+        }
+    }
+    return hyps;
   }
 
   /// The hypothesis of a complete assignment: hypothesis_score() and judge(), computed with the
@@ -129,7 +212,7 @@ struct Prepared {
                                   : a[i] == -1 ? knowledge::PartState::Missing : knowledge::PartState::Undecided);
       e.quality.push_back(q);
     }
-    h.score = s * constraint_product(c, a, segs, o.context, &e.satisfied, &compiled);
+    h.score = s * constraint_product(c, a, ext, o.context, &e.satisfied, &compiled);
     h.posterior = knowledge::posterior(c, e);
     return h;
   }
@@ -180,10 +263,10 @@ std::vector<Hypothesis> match_exhaustive(const Concept& c, const std::vector<Seg
       return;
     }
     for (int s : pr.domain[i]) {
-      if (used[s] || !group_ok(c, a, int(i), s)) continue;
-      used[s] = 1, a[i] = s;
+      if (!pr.available(used, s) || !group_ok(c, a, int(i), s)) continue;
+      pr.take(used, s, 1), a[i] = s;
       rec(i + 1);
-      used[s] = 0;
+      pr.take(used, s, 0);
     }
     if (c.parts[i].optional && group_ok(c, a, int(i), -1)) {
       a[i] = -1;
@@ -193,7 +276,7 @@ std::vector<Hypothesis> match_exhaustive(const Concept& c, const std::vector<Seg
   };
   rec(0);
   if (stats) *stats = st;
-  return best.take();
+  return pr.finish(best.take());
 }
 
 std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs, const MatchOptions& o,
@@ -234,7 +317,7 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
         complete = false;
         return 1.0;
       }
-      args.push_back(&segs[v]);
+      args.push_back(&pr.ext[v]);
     }
     return pr.compiled[k](args, ctx);
   };
@@ -243,7 +326,7 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
     double m = 0.0;
     for (const auto& [s, u] : values[i]) {
       if (u <= m) break;  // sorted: no later value can beat m
-      if ((s >= 0 && used[s]) || !group_ok(c, a, i, s)) continue;
+      if ((s >= 0 && !pr.available(used, s)) || !group_ok(c, a, i, s)) continue;
       double v = u;
       if (s >= 0)
         for (int k : pr.touching[i]) {
@@ -267,7 +350,7 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
     }
     const int i = order[depth];
     for (const auto& [s, u] : values[i]) {
-      if ((s >= 0 && used[s]) || !group_ok(c, a, i, s)) continue;
+      if ((s >= 0 && !pr.available(used, s)) || !group_ok(c, a, i, s)) continue;
       // the factor of this value: its unary score and the constraints it completes
       double f = u;
       if (s >= 0)
@@ -282,7 +365,7 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
         continue;
       }
       a[i] = s;
-      if (s >= 0) used[s] = 1;
+      if (s >= 0) pr.take(used, s, 1);
       // upper bound: every unassigned part at its best given what is assigned now
       double bound = next;
       for (std::size_t d = depth + 1; d < P && bound * slack >= best.floor(); ++d) bound *= best_value(order[d]);
@@ -290,13 +373,13 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
         ++st.pruned;
       else
         rec(depth + 1, next);
-      if (s >= 0) used[s] = 0;
+      if (s >= 0) pr.take(used, s, 0);
       a[i] = -2;
     }
   };
   rec(0, 1.0);
   if (stats) *stats = st;
-  return best.take();
+  return pr.finish(best.take());
 }
 
 Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::string>& concepts,
@@ -305,8 +388,10 @@ Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::str
   for (const auto& name : concepts) resolved.push_back(knowledge::select(kb.resolve(name)));
   std::vector<std::vector<Hypothesis>> found(resolved.size());
   std::vector<MatchStats> stats(resolved.size());
+  MatchOptions o = options;
+  o.kb = &kb;
   tbb::parallel_for(std::size_t(0), resolved.size(),
-                    [&](std::size_t i) { found[i] = match(resolved[i], segments, options, &stats[i]); });
+                    [&](std::size_t i) { found[i] = match(resolved[i], segments, o, &stats[i]); });
   Lattice out;
   for (std::size_t i = 0; i < found.size(); ++i) {
     for (auto& h : found[i]) out.hypotheses.push_back(std::move(h));
@@ -314,14 +399,17 @@ Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::str
     out.stats.pruned += stats[i].pruned;
     out.stats.complete += stats[i].complete;
   }
+  std::vector<std::vector<int>> taken(out.hypotheses.size());
+  for (std::size_t i = 0; i < out.hypotheses.size(); ++i) {
+    Prepared::collect(out.hypotheses[i], taken[i]);
+    std::sort(taken[i].begin(), taken[i].end());
+  }
   for (std::size_t i = 0; i < out.hypotheses.size(); ++i)
     for (std::size_t j = i + 1; j < out.hypotheses.size(); ++j) {
-      const auto& a = out.hypotheses[i].assignment;
-      const auto& b = out.hypotheses[j].assignment;
-      bool share = false;
-      for (int x : a)
-        if (x >= 0 && std::find(b.begin(), b.end(), x) != b.end()) share = true;
-      if (share) out.excludes.push_back({int(i), int(j)});
+      std::vector<int> common;
+      std::set_intersection(taken[i].begin(), taken[i].end(), taken[j].begin(), taken[j].end(),
+                            std::back_inserter(common));
+      if (!common.empty()) out.excludes.push_back({int(i), int(j)});
     }
   return out;
 }

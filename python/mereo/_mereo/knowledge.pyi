@@ -299,6 +299,11 @@ class Hypothesis:
     def assignment(self) -> list[int]:
         ...
     @property
+    def children(self) -> list[Hypothesis]:
+        """
+        per part whose class is a concept: its sub-hypothesis
+        """
+    @property
     def concept(self) -> str:
         ...
     @property
@@ -334,9 +339,9 @@ def builtin_models() -> KnowledgeBase:
     """
     The shipped models (graphs/models/*.yaml).
     """
-def match(concept: Concept, segments: collections.abc.Sequence[Segment], best: typing.SupportsInt = 10, min_score: typing.SupportsFloat = 1e-06, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, exhaustive: bool = False) -> tuple:
+def match(concept: Concept, segments: collections.abc.Sequence[Segment], best: typing.SupportsInt = 10, min_score: typing.SupportsFloat = 1e-06, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, exhaustive: bool = False, kb: KnowledgeBase = None) -> tuple:
     """
-    The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats).
+    The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats). `kb` resolves parts whose class is a concept.
     """
 def recognize(kb: KnowledgeBase, concepts: collections.abc.Sequence[str], segments: collections.abc.Sequence[Segment], best: typing.SupportsInt = 10, min_score: typing.SupportsFloat = 1e-06, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> Lattice:
     """

@@ -29,12 +29,20 @@ struct Hypothesis {
   std::vector<int> assignment;  ///< per part of the concept: index into the segments, -1 = missing
   double score = 0.0;           ///< eq. 5.5, in (0, 1]
   double posterior = 0.0;       ///< P(concept | evidence) from the concept's net
+  /// Per part whose class is a concept (hierarchies): the sub-hypothesis assigned to it (its
+  /// first segment is in `assignment`); empty when no part is a concept.
+  std::vector<Hypothesis> children;
 };
 
 struct MatchOptions {
   int best = 10;                ///< N: hypotheses kept per concept
   double min_score = 1e-6;      ///< hypotheses below this score are dropped (and pruned)
   knowledge::Context context;   ///< the direction of "up" for above / on / tilt
+  /// For parts whose class is a concept: the knowledge base to resolve it, and how many of its
+  /// hypotheses (matched first, on the same segments) are candidates for the part.
+  const knowledge::KnowledgeBase* kb = nullptr;
+  int sub_best = 10;
+  int depth = 0;                ///< nesting level (internal)
 };
 
 struct MatchStats {
@@ -70,7 +78,8 @@ struct Lattice {
   MatchStats stats;
 };
 
-/// Matches every concept in `concepts` (resolved from `kb`, Fine detail, first modality) in
+/// Matches every concept in `concepts` (resolved from `kb`, Fine detail, first modality; parts
+/// whose class is a concept are matched to that concept's hypotheses first) in
 /// parallel (oneTBB, one task per concept; the result does not depend on the thread count).
 Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::string>& concepts,
                   const std::vector<Segment>& segments, const MatchOptions& options = {});

@@ -282,11 +282,14 @@ void bad_rows(const Cloud& cloud, JumpThreshold jt, int ya, int yb, std::vector<
     const float* zd = v + 1 < H ? z + W : z;
     std::uint8_t* e = flags + std::size_t(v - ya) * W;
     // |a - b| > t is false when a neighbour is missing (NaN): missing neighbours do not count
+    const float f = jt.factor, inv = jt.inv_noise_depth;
     for (int u = 1; u + 1 < W; ++u) {
-      const float t = jt(z[u]);
-      const bool bad = !(z[u] > 0.f) | (std::abs(z[u - 1] - z[u]) > t) | (std::abs(z[u + 1] - z[u]) > t) |
-                       (std::abs(zu[u] - z[u]) > t) | (std::abs(zd[u] - z[u]) > t);
-      e[u] = bad ? 1 : 0;
+      // jt(z) spelled out with selects and integer ors, so that the loop vectorizes
+      const float zc = z[u], q = zc * inv;
+      const float t = f * zc * (q > 1.f ? q : 1.f);
+      const int bad = (zc > 0.f ? 0 : 1) | int(std::fabs(z[u - 1] - zc) > t) | int(std::fabs(z[u + 1] - zc) > t) |
+                      int(std::fabs(zu[u] - zc) > t) | int(std::fabs(zd[u] - zc) > t);
+      e[u] = std::uint8_t(bad);
     }
     for (int u : {0, W - 1}) {
       const float t = jt(z[u]);

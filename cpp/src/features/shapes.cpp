@@ -1,0 +1,264 @@
+// Distances, minimal sets and least-squares refits of planes, spheres, cylinders and tori.
+#include "features/shapes.hpp"
+
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace mereo::features::detail {
+
+double signed_distance(const Segment& s, const Eigen::Vector3d& x, Eigen::Vector3d* normal) {
+  switch (s.cls) {
+    case PrimitiveClass::Plane: {
+      if (normal) *normal = s.axis;
+      return s.axis.dot(x) + s.d;
+    }
+    case PrimitiveClass::Sphere: {
+      const Eigen::Vector3d q = x - s.point;
+      const double l = q.norm();
+      if (normal) *normal = l > 0 ? Eigen::Vector3d(q / l) : Eigen::Vector3d::UnitZ();
+      return l - s.radius;
+    }
+    case PrimitiveClass::Cylinder: {
+      const Eigen::Vector3d q = x - s.point;
+      const Eigen::Vector3d radial = q - s.axis * s.axis.dot(q);
+      const double l = radial.norm();
+      if (normal) *normal = l > 0 ? Eigen::Vector3d(radial / l) : Eigen::Vector3d::UnitX();
+      return l - s.radius;
+    }
+    case PrimitiveClass::Torus: {
+      const Eigen::Vector3d q = x - s.point;
+      const Eigen::Vector3d inplane = q - s.axis * s.axis.dot(q);
+      const double rho = inplane.norm();
+      const Eigen::Vector3d ring = rho > 0 ? Eigen::Vector3d(inplane / rho * s.radius) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d t = q - ring;
+      const double l = t.norm();
+      if (normal) *normal = l > 0 ? Eigen::Vector3d(t / l) : s.axis;
+      return l - s.minor_radius;
+    }
+    default:
+      if (normal) *normal = Eigen::Vector3d::UnitZ();
+      return INFINITY;
+  }
+}
+
+std::optional<Segment> plane_from(const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+  Segment s;
+  s.cls = PrimitiveClass::Plane;
+  s.axis = n.normalized();
+  s.d = -s.axis.dot(p);
+  s.point = p;
+  return s;
+}
+
+std::optional<Segment> sphere_from(const Eigen::Vector3d& p1, const Eigen::Vector3d& n1, const Eigen::Vector3d& p2,
+                                   const Eigen::Vector3d& n2) {
+  // closest points of the lines p1 + t n1 and p2 + u n2
+  const Eigen::Vector3d w = p1 - p2;
+  const double a = n1.dot(n1), b = n1.dot(n2), c = n2.dot(n2), d = n1.dot(w), e = n2.dot(w);
+  const double den = a * c - b * b;
+  if (std::abs(den) < 1e-6) return std::nullopt;
+  const double t = (b * e - c * d) / den, u = (a * e - b * d) / den;
+  const Eigen::Vector3d c1 = p1 + t * n1, c2 = p2 + u * n2;
+  if ((c1 - c2).norm() > 0.25 * (std::abs(t) + std::abs(u)) + 1e-3) return std::nullopt;  // normals miss
+  Segment s;
+  s.cls = PrimitiveClass::Sphere;
+  s.point = 0.5 * (c1 + c2);
+  s.radius = 0.5 * ((p1 - s.point).norm() + (p2 - s.point).norm());
+  return s;
+}
+
+std::optional<Segment> cylinder_from(const Eigen::Vector3d& p1, const Eigen::Vector3d& n1, const Eigen::Vector3d& p2,
+                                     const Eigen::Vector3d& n2) {
+  Eigen::Vector3d axis = n1.cross(n2);
+  const double sn = axis.norm();
+  if (sn < 0.05) return std::nullopt;  // nearly parallel normals: no axis
+  axis /= sn;
+  // in the plane orthogonal to the axis, the normal lines meet at the axis
+  const Eigen::Vector3d m1 = n1 - axis * axis.dot(n1), m2 = n2 - axis * axis.dot(n2);
+  const Eigen::Vector3d q1 = p1 - axis * axis.dot(p1), q2 = p2 - axis * axis.dot(p2);
+  const Eigen::Vector3d w = q1 - q2;
+  const double a = m1.dot(m1), b = m1.dot(m2), c = m2.dot(m2), d = m1.dot(w), e = m2.dot(w);
+  const double den = a * c - b * b;
+  if (std::abs(den) < 1e-9) return std::nullopt;
+  const double t = (b * e - c * d) / den, u = (a * e - b * d) / den;
+  const Eigen::Vector3d c1 = q1 + t * m1, c2 = q2 + u * m2;
+  Segment s;
+  s.cls = PrimitiveClass::Cylinder;
+  s.axis = axis;
+  s.point = 0.5 * (c1 + c2) + axis * axis.dot(p1);
+  s.radius = 0.5 * ((q1 - c1).norm() + (q2 - c2).norm());
+  return s;
+}
+
+std::optional<Segment> torus_from(const Eigen::Vector3d* p, const Eigen::Vector3d* n, double min_minor,
+                                  double max_minor) {
+  // det[q2 - q1, q3 - q1, q4 - q1] with q_i = p_i - r n_i: a cubic in r; its root in range by
+  // sampling and bisection
+  auto det = [&](double r) {
+    const Eigen::Vector3d q1 = p[0] - r * n[0];
+    Eigen::Matrix3d M;
+    M.col(0) = p[1] - r * n[1] - q1;
+    M.col(1) = p[2] - r * n[2] - q1;
+    M.col(2) = p[3] - r * n[3] - q1;
+    return M.determinant();
+  };
+  const int steps = 24;
+  double best_r = -1;
+  double prev = det(min_minor);
+  for (int i = 1; i <= steps && best_r < 0; ++i) {
+    double lo = min_minor + (max_minor - min_minor) * (i - 1) / steps, hi = min_minor + (max_minor - min_minor) * i / steps;
+    const double cur = det(hi);
+    if (prev == 0) best_r = lo;
+    else if (prev * cur < 0) {
+      double flo = prev;
+      for (int it = 0; it < 40; ++it) {
+        const double mid = 0.5 * (lo + hi), fm = det(mid);
+        if (flo * fm <= 0) hi = mid;
+        else lo = mid, flo = fm;
+      }
+      best_r = 0.5 * (lo + hi);
+    }
+    prev = cur;
+  }
+  if (best_r < 0) return std::nullopt;
+  // the ring: the circle through q1, q2, q3
+  const Eigen::Vector3d a = p[0] - best_r * n[0], b = p[1] - best_r * n[1], c = p[2] - best_r * n[2];
+  const Eigen::Vector3d ab = b - a, ac = c - a;
+  const Eigen::Vector3d nn = ab.cross(ac);
+  const double l2 = nn.squaredNorm();
+  if (l2 < 1e-14) return std::nullopt;
+  const Eigen::Vector3d centre = a + (ac.squaredNorm() * nn.cross(ab) + ab.squaredNorm() * ac.cross(nn)) / (2 * l2);
+  Segment s;
+  s.cls = PrimitiveClass::Torus;
+  s.point = centre;
+  s.axis = nn / std::sqrt(l2);
+  s.radius = (a - centre).norm();
+  s.minor_radius = best_r;
+  // the fourth tube centre must lie on the ring too
+  const Eigen::Vector3d d = p[3] - best_r * n[3];
+  if (std::abs((d - centre).norm() - s.radius) > 0.1 * s.radius + 0.002) return std::nullopt;
+  return s;
+}
+
+namespace {
+
+// parameters <-> segment, for LM
+Eigen::VectorXd pack(const Segment& s) {
+  switch (s.cls) {
+    case PrimitiveClass::Sphere: {
+      Eigen::VectorXd v(4);
+      v << s.point, s.radius;
+      return v;
+    }
+    case PrimitiveClass::Cylinder: {
+      Eigen::VectorXd v(7);
+      v << s.point, s.axis, s.radius;
+      return v;
+    }
+    case PrimitiveClass::Torus: {
+      Eigen::VectorXd v(8);
+      v << s.point, s.axis, s.radius, s.minor_radius;
+      return v;
+    }
+    default: return Eigen::VectorXd();
+  }
+}
+Segment unpack(const Segment& like, const Eigen::VectorXd& v) {
+  Segment s = like;
+  s.point = v.head<3>();
+  if (s.cls == PrimitiveClass::Sphere) {
+    s.radius = v(3);
+  } else {
+    s.axis = v.segment<3>(3).normalized();
+    s.radius = v(6);
+    if (s.cls == PrimitiveClass::Torus) s.minor_radius = v(7);
+  }
+  return s;
+}
+
+}  // namespace
+
+Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& points) {
+  Segment s = s0;
+  if (points.size() < 4) return s;
+  if (s.cls == PrimitiveClass::Plane) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& p : points) c += p;
+    c /= double(points.size());
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (const auto& p : points) C += (p - c) * (p - c).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+    Eigen::Vector3d n = es.eigenvectors().col(0);
+    if (n.dot(s0.axis) < 0) n = -n;
+    s.axis = n, s.d = -n.dot(c), s.point = c;
+  } else {
+    Eigen::VectorXd x = pack(s);
+    const int P = int(x.size()), N = int(points.size());
+    auto residuals = [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+      const Segment t = unpack(s0, v);
+      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, points[i]);
+    };
+    Eigen::VectorXd r(N), r2(N);
+    residuals(x, r);
+    double cost = r.squaredNorm(), lambda = 1e-3;
+    Eigen::MatrixXd J(N, P);
+    for (int it = 0; it < 30; ++it) {
+      for (int k = 0; k < P; ++k) {
+        Eigen::VectorXd xp = x;
+        const double h = 1e-6 * std::max(1.0, std::abs(x(k)));
+        xp(k) += h;
+        residuals(xp, r2);
+        J.col(k) = (r2 - r) / h;
+      }
+      const Eigen::MatrixXd A = J.transpose() * J;
+      const Eigen::VectorXd g = J.transpose() * r;
+      bool improved = false;
+      for (int tries = 0; tries < 8 && !improved; ++tries) {
+        Eigen::MatrixXd Ad = A;
+        Ad.diagonal() *= (1 + lambda);
+        const Eigen::VectorXd step = Ad.ldlt().solve(-g);
+        const Eigen::VectorXd xn = x + step;
+        residuals(xn, r2);
+        const double c2 = r2.squaredNorm();
+        if (std::isfinite(c2) && c2 < cost) {
+          x = xn, r = r2, lambda *= 0.3;
+          improved = cost - c2 > 1e-14 * cost;
+          cost = c2;
+          if (!improved) break;
+          improved = true;
+        } else {
+          lambda *= 10;
+        }
+      }
+      if (!improved) break;
+    }
+    s = unpack(s0, x);
+  }
+  double ss = 0;
+  for (const auto& p : points) {
+    const double d = signed_distance(s, p);
+    ss += d * d;
+  }
+  s.residual = std::sqrt(ss / double(points.size()));
+  return s;
+}
+
+void set_extent(Segment& s, const std::vector<Eigen::Vector3d>& points) {
+  if (points.empty()) return;
+  if (s.cls == PrimitiveClass::Cylinder) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& p : points) {
+      const double t = s.axis.dot(p - s.point);
+      lo = std::min(lo, t), hi = std::max(hi, t);
+    }
+    s.point += s.axis * (0.5 * (lo + hi));
+    s.height = hi - lo;
+  } else if (s.cls == PrimitiveClass::Plane) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& p : points) c += p;
+    s.point = c / double(points.size());
+  }
+}
+
+}  // namespace mereo::features::detail

@@ -1,0 +1,37 @@
+// Internal: the four shapes' distances and normals, minimal-set solvers and least-squares refits
+// of the feature layer (features/primitives.hpp). Metres, camera frame.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mereo/core/segment.hpp"
+
+namespace mereo::features::detail {
+
+/// Signed distance of x to the (unbounded) surface of s and the surface's unit normal at the
+/// closest point (any orientation).
+double signed_distance(const Segment& s, const Eigen::Vector3d& x, Eigen::Vector3d* normal = nullptr);
+
+/// Minimal sets (Schnabel et al. 2007): a plane from one point and normal; a sphere from two;
+/// a cylinder from two (axis n1 x n2); a torus from four (tube radius r: the four points moved by
+/// -r along their normals are coplanar, a cubic in r; the ring is the circle through three of
+/// them). nullopt when degenerate.
+std::optional<Segment> plane_from(const Eigen::Vector3d& p, const Eigen::Vector3d& n);
+std::optional<Segment> sphere_from(const Eigen::Vector3d& p1, const Eigen::Vector3d& n1, const Eigen::Vector3d& p2,
+                                   const Eigen::Vector3d& n2);
+std::optional<Segment> cylinder_from(const Eigen::Vector3d& p1, const Eigen::Vector3d& n1, const Eigen::Vector3d& p2,
+                                     const Eigen::Vector3d& n2);
+std::optional<Segment> torus_from(const Eigen::Vector3d* p, const Eigen::Vector3d* n, double min_minor,
+                                  double max_minor);
+
+/// Levenberg-Marquardt on the geometric distance, from `s` (planes: PCA). Sets residual (RMS).
+Segment refit_points(const Segment& s, const std::vector<Eigen::Vector3d>& points);
+
+/// Cylinder: `point` moved to the middle of the points' extent along the axis and `height` set;
+/// plane: `point` = centroid. Others unchanged.
+void set_extent(Segment& s, const std::vector<Eigen::Vector3d>& points);
+
+}  // namespace mereo::features::detail

@@ -1,0 +1,128 @@
+// The feature layer (work in progress, issue 5): minimal-set solvers recover exact shapes from
+// exact samples, the least-squares refit recovers them from noisy points, and detection finds
+// the bodies of a clean rendered scene with their true radii. Bad input is an error.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "features/shapes.hpp"
+#include "mereo/core/error.hpp"
+#include "mereo/extension/normals.hpp"
+#include "mereo/extension/projection.hpp"
+#include "mereo/features/primitives.hpp"
+#include "mereo/synthetic/scene.hpp"
+
+using namespace mereo;
+namespace fd = mereo::features::detail;
+
+namespace {
+
+Segment torus(Eigen::Vector3d c, Eigen::Vector3d n, double R, double r) {
+  Segment s;
+  s.cls = PrimitiveClass::Torus;
+  s.point = c, s.axis = n.normalized(), s.radius = R, s.minor_radius = r;
+  return s;
+}
+
+/// A point of the torus at ring angle a and tube angle b, and its outward normal.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> torus_point(const Segment& t, double a, double b) {
+  Eigen::Vector3d e1 = t.axis.unitOrthogonal(), e2 = t.axis.cross(e1);
+  const Eigen::Vector3d radial = std::cos(a) * e1 + std::sin(a) * e2;
+  const Eigen::Vector3d normal = std::cos(b) * radial + std::sin(b) * t.axis;
+  return {t.point + t.radius * radial + t.minor_radius * normal, normal};
+}
+
+}  // namespace
+
+TEST(Features, MinimalSetsAreExactOnExactSamples) {
+  // cylinder: axis (0.2, -1, 0.1), radius 4 cm
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.2, -1, 0.1).normalized(), c(0.05, 0.02, 0.9);
+  const Eigen::Vector3d e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
+  auto on_cyl = [&](double a, double h) {
+    const Eigen::Vector3d n = std::cos(a) * e1 + std::sin(a) * e2;
+    return std::make_pair(Eigen::Vector3d(c + 0.04 * n + h * axis), n);
+  };
+  const auto [p1, n1] = on_cyl(0.3, 0.01);
+  const auto [p2, n2] = on_cyl(1.4, -0.03);
+  const auto cyl = fd::cylinder_from(p1, n1, p2, n2);
+  ASSERT_TRUE(cyl);
+  EXPECT_NEAR(cyl->radius, 0.04, 1e-9);
+  EXPECT_NEAR(std::abs(cyl->axis.dot(axis)), 1.0, 1e-9);
+  EXPECT_NEAR(fd::signed_distance(*cyl, c + 0.04 * e1 + 0.07 * axis), 0.0, 1e-9);
+  // sphere
+  const Eigen::Vector3d sc(0.1, 0, 1.0), d1 = Eigen::Vector3d(0.3, -0.2, -1).normalized(),
+                        d2 = Eigen::Vector3d(-0.4, 0.1, -1).normalized();
+  const auto sph = fd::sphere_from(sc + 0.08 * d1, d1, sc + 0.08 * d2, d2);
+  ASSERT_TRUE(sph);
+  EXPECT_NEAR(sph->radius, 0.08, 1e-9);
+  EXPECT_NEAR((sph->point - sc).norm(), 0.0, 1e-9);
+  // torus (a mug handle: ring 2.5 cm, tube 6 mm)
+  const Segment t = torus({0.0, 0.0, 0.8}, {0.3, 0.1, 1.0}, 0.025, 0.006);
+  Eigen::Vector3d P[4], N[4];
+  const double ab[4][2] = {{0.1, 0.3}, {0.9, -1.0}, {1.8, 2.0}, {2.7, 0.5}};
+  for (int k = 0; k < 4; ++k) std::tie(P[k], N[k]) = torus_point(t, ab[k][0], ab[k][1]);
+  const auto tor = fd::torus_from(P, N, 0.003, 0.02);
+  ASSERT_TRUE(tor);
+  EXPECT_NEAR(tor->minor_radius, 0.006, 1e-7);
+  EXPECT_NEAR(tor->radius, 0.025, 1e-7);
+  EXPECT_NEAR((tor->point - t.point).norm(), 0.0, 1e-7);
+  EXPECT_NEAR(std::abs(tor->axis.dot(t.axis)), 1.0, 1e-9);
+  // degenerate: parallel normals give no cylinder
+  EXPECT_FALSE(fd::cylinder_from(p1, n1, p1 + 0.01 * axis, n1));
+}
+
+TEST(Features, RefitRecoversShapesFromNoisyPoints) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.0005);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const Segment t = torus({0.02, -0.01, 0.9}, {0.1, 0.2, 1.0}, 0.027, 0.007);
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 400; ++i) {
+    auto [p, n] = torus_point(t, 3 * U(rng), 1.5 * U(rng));
+    pts.push_back(p + n * noise(rng));
+  }
+  Segment start = t;
+  start.point += Eigen::Vector3d(0.003, -0.002, 0.002);
+  start.radius *= 1.1, start.minor_radius *= 0.8;
+  start.axis = (start.axis + Eigen::Vector3d(0.05, 0, 0)).normalized();
+  const Segment fit = fd::refit_points(start, pts);
+  EXPECT_NEAR(fit.radius, 0.027, 5e-4);
+  EXPECT_NEAR(fit.minor_radius, 0.007, 5e-4);
+  EXPECT_LT((fit.point - t.point).norm(), 1e-3);
+  EXPECT_LT(fit.residual, 0.0008);
+}
+
+TEST(Features, DetectsTheBodiesOfACleanSceneWithTheirRadii) {
+  synthetic::SceneOptions so;
+  so.noise = false;
+  int bodies = 0, found = 0;
+  for (std::uint64_t seed : {0, 1, 2}) {
+    const auto sf = synthetic::render(seed, so);
+    const Cloud cloud = extension::back_project(sf.frame);
+    const auto segs = features::detect_primitives(cloud, extension::estimate_normals(cloud));
+    for (const auto& obj : sf.truth.objects_truth) {
+      const auto* body = obj.part("body");
+      if (!body || body->camera.cls != "cylinder" || body->visible_pixels < 1000) continue;
+      if (obj.model != "mug" && obj.model != "jar" && obj.model != "can" && obj.model != "bottle") continue;
+      ++bodies;
+      for (const auto& s : segs)
+        if (s.cls == PrimitiveClass::Cylinder && std::abs(s.radius - body->camera.radius) < 0.002 &&
+            std::abs(s.axis.dot(body->camera.axis)) > std::cos(2 * M_PI / 180) &&
+            fd::signed_distance(s, body->camera.point) < 0.0) {
+          ++found;
+          break;
+        }
+    }
+  }
+  EXPECT_GE(bodies, 4);
+  EXPECT_EQ(found, bodies);
+}
+
+TEST(Features, BadInputIsAnError) {
+  EXPECT_THROW(features::detect_primitives(Cloud(10, 10, 1.f), NormalMap(10, 12, 0.f)), InputError);
+  features::DetectOptions o;
+  o.epsilon = -1;
+  EXPECT_THROW(features::detect_primitives(Cloud(10, 10, 1.f), NormalMap(10, 10, 0.f), o), InputError);
+  // an all-NaN frame: no segments, no crash
+  EXPECT_TRUE(features::detect_primitives(Cloud(48, 64, kNaN), NormalMap(48, 64, kNaN)).empty());
+}

@@ -2,6 +2,7 @@
 // knowledge base, model files) and matching. Python-defined predicates are called with the GIL.
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -43,6 +44,14 @@ void bind_knowledge(py::module_& m) {
       .def_readwrite("inliers", &Segment::inliers)
       .def_readwrite("residual", &Segment::residual)
       .def_readwrite("hue", &Segment::hue)
+      .def_property_readonly("pixels",
+                             [](const Segment& s) {
+                               py::array_t<int> a(py::ssize_t(s.pixels.size()));
+                               std::copy(s.pixels.begin(), s.pixels.end(), a.mutable_data());
+                               return a;
+                             },
+                             "inlier pixel indices v * width + u (NumPy int32)")
+      .def_property_readonly("mean_color", [](const Segment& s) { return Eigen::Vector3f(s.mean_color); })
       .def("__repr__", [](const Segment& s) {
         return "<mereo.Segment " + std::string(mereo::to_string(s.cls)) + " r=" + std::to_string(s.radius) + ">";
       });

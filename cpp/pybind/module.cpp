@@ -10,6 +10,7 @@ void bind_io(py::module_& m);
 void bind_signal(py::module_& m);
 void bind_extension(py::module_& m);
 void bind_synthetic(py::module_& m);
+void bind_features(py::module_& m);
 void bind_knowledge(py::module_& m);
 void bind_graph(py::module_& m);
 
@@ -26,6 +27,8 @@ PYBIND11_MODULE(_mereo, m) {
   bind_extension(ext);
   auto syn = m.def_submodule("synthetic", "The built-in tabletop scene renderer with exact ground truth.");
   bind_synthetic(syn);
+  auto ft = m.def_submodule("features", "RANSAC primitives of organized clouds (the feature layer).");
+  bind_features(ft);
   auto kn = m.def_submodule("knowledge", "Object models, segments and matching (the object layer).");
   bind_knowledge(kn);
   bind_graph(m);  // Graph, FrameQueue, errors at the top level; node kinds in mereo._mereo.nodes

@@ -8,7 +8,7 @@ The numeric work happens in C++ (``mereo._mereo``); this package names it::
 """
 from . import _mereo
 from ._mereo import Frame, InputError, Intrinsics, nodes
-from . import extension, io, knowledge, preview, signal, synthetic
+from . import extension, features, io, knowledge, preview, signal, synthetic
 from .graph import FrameQueue, Graph, GraphError, NodeError
 
 __version__ = _mereo.__version__
@@ -22,6 +22,7 @@ __all__ = [
     "Intrinsics",
     "NodeError",
     "extension",
+    "features",
     "io",
     "knowledge",
     "nodes",

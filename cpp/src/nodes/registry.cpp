@@ -9,6 +9,7 @@ std::vector<graph::NodeSpec> builtin_node_specs() {
       back_project_node(),
       estimate_normals_node(),
       support_plane_node(),
+      detect_primitives_node(),
       match_models_node(),
       // diagnostics: engine tests and benchmarks
       identity_node(),

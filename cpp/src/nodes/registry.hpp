@@ -13,6 +13,7 @@ graph::NodeSpec back_project_node();
 graph::NodeSpec filter_depth_node();
 graph::NodeSpec estimate_normals_node();
 graph::NodeSpec support_plane_node();
+graph::NodeSpec detect_primitives_node();
 graph::NodeSpec match_models_node();
 graph::NodeSpec identity_node();
 graph::NodeSpec checksum_node();

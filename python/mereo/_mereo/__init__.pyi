@@ -8,9 +8,10 @@ from . import io
 from . import signal
 from . import extension
 from . import synthetic
+from . import features
 from . import knowledge
 from . import nodes
-__all__: list[str] = ['Frame', 'FrameQueue', 'Graph', 'GraphError', 'InputError', 'Intrinsics', 'Node', 'NodeError', 'NodeTemplate', 'Port', 'extension', 'io', 'knowledge', 'node_doc', 'nodes', 'signal', 'synthetic']
+__all__: list[str] = ['Frame', 'FrameQueue', 'Graph', 'GraphError', 'InputError', 'Intrinsics', 'Node', 'NodeError', 'NodeTemplate', 'Port', 'extension', 'features', 'io', 'knowledge', 'node_doc', 'nodes', 'signal', 'synthetic']
 class InputError(ValueError):
     pass
 class Intrinsics:

@@ -53,11 +53,19 @@ class Segment:
     def inliers(self, arg0: typing.SupportsInt) -> None:
         ...
     @property
+    def mean_color(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
+        ...
+    @property
     def minor_radius(self) -> float:
         ...
     @minor_radius.setter
     def minor_radius(self, arg0: typing.SupportsFloat) -> None:
         ...
+    @property
+    def pixels(self) -> numpy.typing.NDArray[numpy.int32]:
+        """
+        inlier pixel indices v * width + u (NumPy int32)
+        """
     @property
     def point(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         ...

@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'match_models', 'identity', 'checksum', 'fail_on_frame']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'identity', 'checksum', 'fail_on_frame']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -23,6 +23,27 @@ def checksum(**kwargs) -> mereo._mereo.NodeTemplate:
         value (Number): the checksum
     Options:
         rounds (int, default 1, 1..1e+06): passes over the image
+    """
+def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    RANSAC planes, cylinders, spheres and tori (Schnabel et al. 2007, on the image grid), largest first.
+    
+    Inputs:
+        cloud (Cloud): organized XYZ cloud
+        normals (NormalMap): per-pixel normals
+        roi (Mask, optional): only these pixels (e.g. above the table)
+        frame (Frame, optional): the frame, for the segments' colour
+    Outputs:
+        segments (Segments): the primitives with parameters and inlier pixels
+    Options:
+        seed (int, default 0, 0..1e+15): the only source of randomness
+        classes (str, default plane,cylinder,sphere,torus): classes to look for
+        epsilon (float, default 0.006, 0.0001..0.1): inlier distance at 1 m, metres
+        normal_deviation_deg (float, default 25, 1..90): inlier normal deviation
+        min_support (int, default 250, 10..1e+07): fewest pixels of a segment
+        min_support_torus (int, default 80, 10..1e+07): fewest pixels of a torus
+        max_primitives (int, default 64, 1..10000): at most this many segments
+        handles_near_cylinders (bool, default true): look for a torus next to every cylinder
     """
 def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
     """

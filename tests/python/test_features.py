@@ -1,0 +1,58 @@
+"""The feature layer from Python: segments with parameters and inlier pixels, the label image,
+the detect_primitives node feeding match_models."""
+import json
+
+import numpy as np
+import pytest
+
+import mereo
+
+
+@pytest.fixture(scope="module")
+def clean():
+    o = mereo.synthetic.SceneOptions()
+    o.noise = False
+    return mereo.synthetic.render(2, o)
+
+
+def test_detect_primitives_returns_segments_with_masks(clean):
+    cloud = mereo.extension.back_project(clean.frame)
+    normals = mereo.extension.estimate_normals(cloud)
+    segs = mereo.features.detect_primitives(cloud, normals, color=clean.frame.color)
+    assert segs and segs[0].cls == "plane"  # the table, largest first
+    assert all(a.inliers >= b.inliers for a, b in zip(segs, segs[1:]))
+    labels = mereo.features.label_image(segs, 480, 640)
+    assert labels.shape == (480, 640) and labels.dtype == np.int32
+    for k, s in enumerate(segs):
+        assert s.pixels.dtype == np.int32 and len(s.pixels) == s.inliers
+        assert (labels.ravel()[s.pixels] == k).all()
+    # the mug bodies of the ground truth are among the cylinders, radius within 2 mm
+    objects = json.loads(clean.truth_json())["objects"]
+    truth = [p["camera"]["radius"] for o in objects if o["model"] == "mug" for p in o["parts"] if p["role"] == "body"]
+    cyl = [s for s in segs if s.cls == "cylinder"]
+    assert truth
+    for radius in truth:
+        assert min(abs(s.radius - radius) for s in cyl) < 0.002
+    with pytest.raises(ValueError):
+        mereo.features.detect_primitives(cloud, normals[:10])
+
+
+def test_primitives_to_objects_in_a_graph(clean):
+    g = mereo.Graph()
+    src = g.add("frame_source", "source")
+    cloud = g.add("back_project", "cloud")
+    normals = g.add("estimate_normals", "normals")
+    prims = g.add(mereo.nodes.detect_primitives(), "primitives")
+    objects = g.add(mereo.nodes.match_models(models="jar, mug, bowl"), "objects")
+    g.connect(src.frame, cloud.frame)
+    g.connect(cloud.cloud, normals.cloud)
+    g.connect(cloud.cloud, prims.cloud)
+    g.connect(normals.normals, prims.normals)
+    g.connect(src.frame, prims.frame)
+    g.connect(prims.segments, objects.segments)
+    g.connect(src.frame, objects.frame)
+    (r,) = g.run([clean.frame], keep=["primitives.segments", "objects.lattice"])
+    segs = r["outputs"]["primitives.segments"]
+    lattice = r["outputs"]["objects.lattice"]
+    assert len(segs) > 3
+    assert {h.concept for h in lattice.hypotheses} & {"jar", "bowl", "mug"}

@@ -119,9 +119,59 @@ struct Candidate {
 
 /// One round of candidates from `count` seeds drawn with per-task generators seeded by
 /// (seed, round, task): the result depends on the seed only, not on the threads.
+/// A handle hypothesis from a seed pixel next to a body: the ring plane holds the body's axis and
+/// the radial direction to the seed; three pixels of the plane's slab, moved by -r along their
+/// normals (r on a grid over the tube range), give the ring as the circle through them.
+std::optional<Segment> handle_from(const Pixels& f, const Segment& body, int seed, std::mt19937_64& rng,
+                                   const std::vector<int>& slab_pool) {
+  const Eigen::Vector3d a = body.axis.normalized();
+  const Eigen::Vector3d q = f.p(seed) - body.point;
+  Eigen::Vector3d u = q - a * a.dot(q);
+  if (u.norm() < 1e-6) return std::nullopt;
+  u.normalize();
+  const Eigen::Vector3d n = a.cross(u).normalized();  // the ring plane's normal
+  // pixels near that plane (the seed's own slab)
+  // pixels near that plane, outside the body's wall and within its height
+  std::vector<int> near;
+  for (int j : slab_pool) {
+    const Eigen::Vector3d x = f.p(j) - body.point;
+    const double along = a.dot(x), radial = (x - a * along).norm();
+    if (std::abs(n.dot(x)) < 0.012 && radial > body.radius + f.eps(f.p(j).z()) &&
+        std::abs(along) < 0.5 * body.height + 0.01)
+      near.push_back(j);
+  }
+  if (near.size() < 3) return std::nullopt;
+  // the seed and two pixels of the slab within 3 cm of it; the tube radius from a handle's range
+  const Eigen::Vector3d p0 = f.p(seed);
+  std::vector<int> close;
+  for (int j : near)
+    if (j != seed && (f.p(j) - p0).norm() < 0.03) close.push_back(j);
+  if (close.size() < 2) return std::nullopt;
+  const double rmax = std::min(f.o.max_minor_radius, 0.01);
+  const double r = f.o.min_minor_radius + (rmax - f.o.min_minor_radius) * std::uniform_real_distribution<double>(0, 1)(rng);
+  Eigen::Vector3d t[3];
+  for (int k = 0; k < 3; ++k) {
+    const int j = k == 0 ? seed : close[rng() % close.size()];
+    Eigen::Vector3d pn = f.n(j);
+    if (pn.dot(f.p(j)) > 0) pn = -pn;
+    const Eigen::Vector3d c = f.p(j) - r * pn;            // the tube centre, if the normal is right
+    t[k] = c - n * n.dot(c - body.point);                 // in the ring plane
+  }
+  const Eigen::Vector3d ab = t[1] - t[0], ac = t[2] - t[0], nn = ab.cross(ac);
+  const double l2 = nn.squaredNorm();
+  if (l2 < 1e-12) return std::nullopt;
+  Segment s;
+  s.cls = PrimitiveClass::Torus;
+  s.point = t[0] + (ac.squaredNorm() * nn.cross(ab) + ab.squaredNorm() * ac.cross(nn)) / (2 * l2);
+  s.axis = n;
+  s.radius = (t[0] - s.point).norm();
+  s.minor_radius = r;
+  return s;
+}
+
 std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int round, int count,
                             const std::vector<PrimitiveClass>& classes, double min_r, double max_r,
-                            const std::uint8_t* mask) {
+                            const std::uint8_t* mask, const Segment* body = nullptr) {
   std::vector<std::vector<Candidate>> per(count);
   tbb::parallel_for(0, count, [&](int t) {
     std::mt19937_64 rng(f.o.seed * 0x9E3779B97F4A7C15ULL + std::uint64_t(round) * 1000003ULL + std::uint64_t(t));
@@ -150,6 +200,8 @@ std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int r
         if (j < 0) continue;
         s = c == PrimitiveClass::Sphere ? detail::sphere_from(p0, n0, f.p(j), f.n(j))
                                         : detail::cylinder_from(p0, n0, f.p(j), f.n(j));
+      } else if (c == PrimitiveClass::Torus && body) {
+        s = handle_from(f, *body, seed, rng, pool);
       } else if (c == PrimitiveClass::Torus) {
         Eigen::Vector3d P[4] = {p0}, N[4] = {n0};
         bool ok = true;
@@ -221,7 +273,7 @@ Segment finish(const Pixels& f, Segment s, int seed, const ColorImage* color, co
 /// The detect-refine-remove loop over the pixels of `mask` (or all), for `classes`.
 std::vector<Segment> search(Pixels& f, const std::vector<PrimitiveClass>& classes, const std::uint8_t* mask,
                             int min_support_other, int min_support_torus, double min_r, double max_r, int max_count,
-                            const ColorImage* color) {
+                            const ColorImage* color, const Segment* body = nullptr) {
   std::vector<Segment> out;
   const int step = std::max(1, f.o.score_step);
   for (int round = 0; round < f.o.max_iterations && int(out.size()) < max_count; ++round) {
@@ -229,7 +281,7 @@ std::vector<Segment> search(Pixels& f, const std::vector<PrimitiveClass>& classe
     for (int i = 0; i < f.H * f.W; i += 1)
       if (f.free[i] && (!mask || mask[i]) && (i / f.W) % step == 0 && (i % f.W) % step == 0) pool.push_back(i);
     if (pool.size() < 4) break;
-    auto cands = draw(f, pool, round, f.o.candidates_per_iteration, classes, min_r, max_r, mask);
+    auto cands = draw(f, pool, round, f.o.candidates_per_iteration, classes, min_r, max_r, mask, body);
     if (cands.empty()) break;
     // the most locally supported candidates get a grid component score (in parallel)
     std::stable_sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
@@ -279,6 +331,7 @@ SearchRegion region_near(const Segment& segment, double margin) {
   SearchRegion r;
   r.ball_center = segment.point;
   r.ball_radius = std::hypot(segment.radius, 0.5 * segment.height) + margin;
+  if (segment.cls == PrimitiveClass::Cylinder) r.attached_to = segment;
   return r;
 }
 
@@ -336,8 +389,9 @@ std::vector<Segment> find_primitive(const Cloud& cloud, const NormalMap& normals
   local.max_iterations = std::min(o.max_iterations, 8);
   Pixels g(cloud, normals, local);
   g.free = f.free;
+  const Segment* body = cls == PrimitiveClass::Torus && region.attached_to ? &*region.attached_to : nullptr;
   return search(g, {cls}, mask.data(), std::max(1, o.min_support / 4), o.min_support_torus, min_r, max_r, max_count,
-                color);
+                color, body);
 }
 
 }  // namespace mereo::features

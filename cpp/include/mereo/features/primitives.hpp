@@ -91,10 +91,15 @@ struct SearchRegion {
   /// Pixels already taken (e.g. the inliers of other segments) are excluded; these segments'
   /// pixels are removed from the search.
   std::vector<const Segment*> exclude;
+  /// A cylinder (a body) the wanted torus (a handle) is attached to: its ring plane then holds
+  /// the body's axis direction, which find_primitive uses to draw handle hypotheses (a circle in
+  /// that plane through three tube centres) instead of the generic four-point torus.
+  std::optional<Segment> attached_to;
 };
 
 /// A ball region around `segment`: its centre point with radius extent + margin (a handle
-/// next to a body: the body's radius and half height plus `margin` metres).
+/// next to a body: the body's radius and half height plus `margin` metres); for a cylinder the
+/// region is also `attached_to` it.
 SearchRegion region_near(const Segment& segment, double margin = 0.06);
 
 /// Finds planes, cylinders, tori and spheres in an organized cloud with per-pixel normals

@@ -349,6 +349,7 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
     for (std::size_t k = 0; k < n && int(out.size()) < o.max_primitives; ++k) {
       if (out[k].cls != PrimitiveClass::Cylinder) continue;
       SearchRegion r = region_near(out[k], 0.04);
+      for (const Segment& other : out) r.exclude.push_back(&other);  // their pixels stay theirs
       auto found = find_primitive(cloud, normals, PrimitiveClass::Torus, r, o, color, 1);
       // pixels already taken by other segments stay theirs
       for (auto& t : found) {

@@ -6,6 +6,7 @@
 #include <deque>
 #include <random>
 #include <string>
+#include <unordered_map>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -55,12 +56,31 @@ struct Pixels {
   }
   Eigen::Vector3d n(int i) const { return Eigen::Vector3d(normals.data()[3 * i], normals.data()[3 * i + 1], normals.data()[3 * i + 2]); }
   double eps(double z) const { return o.epsilon * std::max(0.3, 1 + o.epsilon_growth * (z * z - 1)); }
-  /// Pixel i fits segment s: distance within eps(z) and normal within the deviation.
-  bool fits(const Segment& s, int i) const {
+  /// +1 when pixel i's normal agrees with the outward normal of s at its closest point, -1 when it
+  /// is opposed (a concave side: a mug's inner wall), 0 for planes (normals face the camera).
+  int orientation(const Segment& s, int i) const {
+    if (s.cls == PrimitiveClass::Plane) return 0;
+    Eigen::Vector3d sn;
+    signed_distance(s, p(i), &sn);
+    return sn.dot(n(i)) >= 0 ? 1 : -1;
+  }
+  /// Pixel i fits segment s: distance within eps(z) and normal within the deviation, on the
+  /// side `sign` (see orientation; 0 = either side). The sign keeps a mug's outer wall and its
+  /// visible inner wall, a few millimetres apart but facing opposite ways, in different segments.
+  bool fits(const Segment& s, int i, int sign = 0) const {
     const Eigen::Vector3d x = p(i);
     Eigen::Vector3d sn;
     const double d = signed_distance(s, x, &sn);
-    return std::abs(d) <= eps(x.z()) && std::abs(sn.dot(n(i))) >= cos_dev;
+    const double c = sn.dot(n(i));
+    return std::abs(d) <= eps(x.z()) && (sign == 0 ? std::abs(c) : sign * c) >= cos_dev;
+  }
+  /// Pixel i is within eps(z) of s and its normal is on the outer side of the surface (within
+  /// 90 degrees): the test for thin parts whose normals are too noisy for fits().
+  bool near_facing(const Segment& s, int i) const {
+    const Eigen::Vector3d x = p(i);
+    Eigen::Vector3d sn;
+    const double d = signed_distance(s, x, &sn);
+    return std::abs(d) <= eps(x.z()) && sn.dot(n(i)) > 0;
   }
   /// The 4-connected component of free pixels that fit s, from `seed`, on a grid of `step`
   /// pixels (seed snapped to it); `mask` (optional) restricts it. Capped at `cap` cells.
@@ -69,7 +89,9 @@ struct Pixels {
     std::vector<int> out;
     const int sv = (seed / W) / step * step, su = (seed % W) / step * step;
     const int start = sv * W + su;
-    if (!free[start] || (mask && !mask[start]) || !fits(s, start)) return out;
+    if (!free[start] || (mask && !mask[start])) return out;
+    const int sign = orientation(s, start);
+    if (!fits(s, start, sign)) return out;
     std::vector<std::uint8_t> seen;
     // visited cells, hashed densely on the grid
     const int gw = (W + step - 1) / step, gh = (H + step - 1) / step;
@@ -88,7 +110,7 @@ struct Pixels {
         if (sn) continue;
         sn = 1;
         const int j = q[0] * W + q[1];
-        if (free[j] && (!mask || mask[j]) && fits(s, j)) queue.push_back(j);
+        if (free[j] && (!mask || mask[j]) && fits(s, j, sign)) queue.push_back(j);
       }
     }
     return out;
@@ -117,61 +139,113 @@ struct Candidate {
   double score = 0;  // estimated inlier pixels
 };
 
-/// One round of candidates from `count` seeds drawn with per-task generators seeded by
-/// (seed, round, task): the result depends on the seed only, not on the threads.
-/// A handle hypothesis from a seed pixel next to a body: the ring plane holds the body's axis and
-/// the radial direction to the seed; three pixels of the plane's slab, moved by -r along their
-/// normals (r on a grid over the tube range), give the ring as the circle through them.
-std::optional<Segment> handle_from(const Pixels& f, const Segment& body, int seed, std::mt19937_64& rng,
-                                   const std::vector<int>& slab_pool) {
-  const Eigen::Vector3d a = body.axis.normalized();
-  const Eigen::Vector3d q = f.p(seed) - body.point;
-  Eigen::Vector3d u = q - a * a.dot(q);
-  if (u.norm() < 1e-6) return std::nullopt;
-  u.normalize();
-  const Eigen::Vector3d n = a.cross(u).normalized();  // the ring plane's normal
-  // pixels near that plane (the seed's own slab)
-  // pixels near that plane, outside the body's wall and within its height
-  std::vector<int> near;
-  for (int j : slab_pool) {
-    const Eigen::Vector3d x = f.p(j) - body.point;
-    const double along = a.dot(x), radial = (x - a * along).norm();
-    if (std::abs(n.dot(x)) < 0.012 && radial > body.radius + f.eps(f.p(j).z()) &&
-        std::abs(along) < 0.5 * body.height + 0.01)
-      near.push_back(j);
+/// Handle hypotheses next to a body (the model-driven search for a mug's handle). A handle is a
+/// torus whose ring plane holds the body's axis, outside the wall, within the body's height:
+///  1. the usable pixels of `mask` between the wall (radius + noise) and 7 cm beyond it, within
+///     the body's visible height (less 3 mm: the table's edge pixels at its foot are not a
+///     handle), are binned by azimuth about the axis;
+///  2. the best azimuth windows (25 deg, at most two that do not overlap) give a ring plane each
+///     (through the axis, at the circular mean azimuth of their pixels);
+///  3. for three starting tube radii, a torus starting at the window's extent (ring radius = half
+///     its height span, outer edge at its farthest pixel) is refined by Levenberg-Marquardt on
+///     the pixels of the window (a plain geometric fit: the normals of a noisy 1 cm tube are
+///     poor), trimmed to the points within 2 epsilon and refitted.
+/// Each plausible torus is a candidate seeded at its best-fitting pixel; its score is the number
+/// of pixels within epsilon. Deterministic: no sampling.
+std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, const std::uint8_t* mask,
+                                         int min_support) {
+  const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  struct Near {
+    int i;
+    double theta;
+  };
+  std::vector<Near> pts;
+  for (int i = 0; i < f.H * f.W; ++i) {
+    if (!f.free[i] || (mask && !mask[i])) continue;
+    const Eigen::Vector3d x = f.p(i) - body.point;
+    const double h = a.dot(x);
+    const Eigen::Vector3d radial = x - a * h;
+    const double rho = radial.norm();
+    if (rho <= body.radius + 0.5 * f.eps(f.p(i).z()) || rho > body.radius + 0.07) continue;
+    if (std::abs(h) > 0.5 * body.height - 0.003) continue;  // a handle stays off the table
+    pts.push_back({i, std::atan2(radial.dot(e2), radial.dot(e1))});
   }
-  if (near.size() < 3) return std::nullopt;
-  // the seed and two pixels of the slab within 3 cm of it; the tube radius from a handle's range
-  const Eigen::Vector3d p0 = f.p(seed);
-  std::vector<int> close;
-  for (int j : near)
-    if (j != seed && (f.p(j) - p0).norm() < 0.03) close.push_back(j);
-  if (close.size() < 2) return std::nullopt;
-  const double rmax = std::min(f.o.max_minor_radius, 0.01);
-  const double r = f.o.min_minor_radius + (rmax - f.o.min_minor_radius) * std::uniform_real_distribution<double>(0, 1)(rng);
-  Eigen::Vector3d t[3];
-  for (int k = 0; k < 3; ++k) {
-    const int j = k == 0 ? seed : close[rng() % close.size()];
-    Eigen::Vector3d pn = f.n(j);
-    if (pn.dot(f.p(j)) > 0) pn = -pn;
-    const Eigen::Vector3d c = f.p(j) - r * pn;            // the tube centre, if the normal is right
-    t[k] = c - n * n.dot(c - body.point);                 // in the ring plane
+  std::vector<Candidate> out;
+  if (int(pts.size()) < min_support) return out;
+  constexpr int kBins = 72, kWindow = 5;  // 5-degree bins, 25-degree windows
+  std::vector<int> hist(kBins, 0);
+  for (const auto& q : pts) hist[std::min(kBins - 1, int((q.theta + M_PI) / (2 * M_PI) * kBins))]++;
+  auto window = [&](int b) {
+    int sum = 0;
+    for (int k = -kWindow / 2; k <= kWindow / 2; ++k) sum += hist[(b + k + kBins) % kBins];
+    return sum;
+  };
+  std::vector<int> peaks;
+  for (int pass = 0; pass < 2; ++pass) {
+    int best = -1, best_sum = 0;
+    for (int b = 0; b < kBins; ++b) {
+      bool clear = true;
+      for (int p : peaks) clear = clear && std::min((b - p + kBins) % kBins, (p - b + kBins) % kBins) > kWindow;
+      if (clear && window(b) > best_sum) best = b, best_sum = window(b);
+    }
+    if (best < 0 || best_sum < min_support) break;
+    peaks.push_back(best);
   }
-  const Eigen::Vector3d ab = t[1] - t[0], ac = t[2] - t[0], nn = ab.cross(ac);
-  const double l2 = nn.squaredNorm();
-  if (l2 < 1e-12) return std::nullopt;
-  Segment s;
-  s.cls = PrimitiveClass::Torus;
-  s.point = t[0] + (ac.squaredNorm() * nn.cross(ab) + ab.squaredNorm() * ac.cross(nn)) / (2 * l2);
-  s.axis = n;
-  s.radius = (t[0] - s.point).norm();
-  s.minor_radius = r;
-  return s;
+  for (int peak : peaks) {
+    const double theta0 = (peak + 0.5) / kBins * 2 * M_PI - M_PI;
+    std::vector<Eigen::Vector3d> sel;
+    std::vector<int> sel_i;
+    double sc = 0, ss = 0;
+    for (const auto& q : pts) {
+      const double d = std::remainder(q.theta - theta0, 2 * M_PI);
+      if (std::abs(d) > 15.0 * kDeg) continue;
+      sel.push_back(f.p(q.i));
+      sel_i.push_back(q.i);
+      sc += std::cos(q.theta), ss += std::sin(q.theta);
+    }
+    if (int(sel.size()) < min_support) continue;
+    const double theta = std::atan2(ss, sc);
+    const Eigen::Vector3d u = std::cos(theta) * e1 + std::sin(theta) * e2;
+    double hmin = INFINITY, hmax = -INFINITY, rmax = 0;
+    for (const auto& x : sel) {
+      const double h = a.dot(x - body.point);
+      hmin = std::min(hmin, h), hmax = std::max(hmax, h);
+      rmax = std::max(rmax, u.dot(x - body.point));
+    }
+    for (double r0 : {0.004, 0.006, 0.008}) {
+      Segment t;
+      t.cls = PrimitiveClass::Torus;
+      t.axis = a.cross(u).normalized();
+      t.minor_radius = r0;
+      t.radius = std::max(0.012, 0.5 * (hmax - hmin) - r0);
+      t.point = body.point + a * (0.5 * (hmin + hmax)) + u * std::max(body.radius, rmax - r0 - t.radius);
+      t = detail::refit_handle(body, t, sel);
+      for (int round = 0; round < 2; ++round) {
+        std::vector<Eigen::Vector3d> kept;
+        for (const auto& x : sel)
+          if (std::abs(signed_distance(t, x)) <= 2 * f.eps(x.z())) kept.push_back(x);
+        if (int(kept.size()) < min_support) break;
+        t = detail::refit_handle(body, t, kept);
+      }
+      if (!plausible(t, f.o, f.o.max_major_radius, 0.0)) continue;
+      int seed = -1, score = 0;
+      double best_d = INFINITY;
+      for (std::size_t k = 0; k < sel.size(); ++k) {
+        const double d = std::abs(signed_distance(t, sel[k]));
+        if (d <= f.eps(sel[k].z())) ++score;
+        if (d < best_d && f.fits(t, sel_i[k], 1)) best_d = d, seed = sel_i[k];
+      }
+      if (seed >= 0 && score >= min_support) out.push_back({t, seed, double(score)});
+    }
+  }
+  return out;
 }
 
+/// One round of candidates from `count` seeds drawn with per-task generators seeded by
+/// (seed, round, task): the result depends on the seed only, not on the threads.
 std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int round, int count,
                             const std::vector<PrimitiveClass>& classes, double min_r, double max_r,
-                            const std::uint8_t* mask, const Segment* body = nullptr) {
+                            const std::uint8_t* mask) {
   std::vector<std::vector<Candidate>> per(count);
   tbb::parallel_for(0, count, [&](int t) {
     std::mt19937_64 rng(f.o.seed * 0x9E3779B97F4A7C15ULL + std::uint64_t(round) * 1000003ULL + std::uint64_t(t));
@@ -200,8 +274,6 @@ std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int r
         if (j < 0) continue;
         s = c == PrimitiveClass::Sphere ? detail::sphere_from(p0, n0, f.p(j), f.n(j))
                                         : detail::cylinder_from(p0, n0, f.p(j), f.n(j));
-      } else if (c == PrimitiveClass::Torus && body) {
-        s = handle_from(f, *body, seed, rng, pool);
       } else if (c == PrimitiveClass::Torus) {
         Eigen::Vector3d P[4] = {p0}, N[4] = {n0};
         bool ok = true;
@@ -216,9 +288,10 @@ std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int r
       if (!s || !plausible(*s, f.o, max_r, min_r)) continue;
       // quick local score: how many of 24 random neighbours fit
       int hits = 0;
+      const int sign = f.orientation(*s, seed);
       for (int k = 0; k < 24; ++k) {
         const int j = neighbour();
-        hits += j >= 0 && f.fits(*s, j);
+        hits += j >= 0 && f.fits(*s, j, sign);
       }
       if (hits < (c == PrimitiveClass::Torus ? 5 : 8)) continue;
       per[t].push_back({*s, seed, double(hits)});
@@ -228,6 +301,35 @@ std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int r
   for (auto& v : per)
     for (auto& c : v) out.push_back(std::move(c));
   return out;
+}
+
+/// Sets a segment's pixels, inlier count, visible extent (cylinders), centroid (planes) and mean
+/// colour and hue (when `color` is given).
+void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color) {
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(pix.size());
+  Eigen::Vector3f col = Eigen::Vector3f::Zero();
+  for (int i : pix) {
+    pts.push_back(f.p(i));
+    if (color && !color->empty())
+      col += Eigen::Vector3f(color->data()[3 * i], color->data()[3 * i + 1], color->data()[3 * i + 2]) / 255.f;
+  }
+  detail::set_extent(s, pts);
+  if (s.cls == PrimitiveClass::Plane && s.axis.dot(s.point) > 0) s.axis = -s.axis, s.d = -s.d;  // towards the camera
+  s.inliers = pix.size();
+  s.pixels = std::move(pix);
+  if (color && !color->empty() && s.inliers > 0) {
+    s.mean_color = col / float(s.inliers);
+    const float r = s.mean_color.x(), g = s.mean_color.y(), b = s.mean_color.z();
+    const float mx = std::max({r, g, b}), mn = std::min({r, g, b});
+    double h = 0;
+    if (mx > mn) {
+      if (mx == r) h = 60 * std::fmod((g - b) / (mx - mn), 6.f);
+      else if (mx == g) h = 60 * ((b - r) / (mx - mn) + 2);
+      else h = 60 * ((r - g) / (mx - mn) + 4);
+    }
+    s.hue = h < 0 ? h + 360 : h;
+  }
 }
 
 /// The segment of a candidate: refit to its full-resolution component twice, with extent,
@@ -243,37 +345,14 @@ Segment finish(const Pixels& f, Segment s, int seed, const ColorImage* color, co
   }
   auto pix = f.component(s, seed, 1, mask);
   if (pix.size() < 6) return Segment{};
-  std::vector<Eigen::Vector3d> pts;
-  pts.reserve(pix.size());
-  Eigen::Vector3f col = Eigen::Vector3f::Zero();
-  for (int i : pix) {
-    pts.push_back(f.p(i));
-    if (color && !color->empty())
-      col += Eigen::Vector3f(color->data()[3 * i], color->data()[3 * i + 1], color->data()[3 * i + 2]) / 255.f;
-  }
-  detail::set_extent(s, pts);
-  if (s.cls == PrimitiveClass::Plane && s.axis.dot(s.point) > 0) s.axis = -s.axis, s.d = -s.d;  // towards the camera
-  s.inliers = pix.size();
-  s.pixels = std::move(pix);
-  if (color && !color->empty()) {
-    s.mean_color = col / float(s.inliers);
-    const float r = s.mean_color.x(), g = s.mean_color.y(), b = s.mean_color.z();
-    const float mx = std::max({r, g, b}), mn = std::min({r, g, b});
-    double h = 0;
-    if (mx > mn) {
-      if (mx == r) h = 60 * std::fmod((g - b) / (mx - mn), 6.f);
-      else if (mx == g) h = 60 * ((b - r) / (mx - mn) + 2);
-      else h = 60 * ((r - g) / (mx - mn) + 4);
-    }
-    s.hue = h < 0 ? h + 360 : h;
-  }
+  describe(f, s, std::move(pix), color);
   return s;
 }
 
 /// The detect-refine-remove loop over the pixels of `mask` (or all), for `classes`.
 std::vector<Segment> search(Pixels& f, const std::vector<PrimitiveClass>& classes, const std::uint8_t* mask,
                             int min_support_other, int min_support_torus, double min_r, double max_r, int max_count,
-                            const ColorImage* color, const Segment* body = nullptr) {
+                            const ColorImage* color) {
   std::vector<Segment> out;
   const int step = std::max(1, f.o.score_step);
   for (int round = 0; round < f.o.max_iterations && int(out.size()) < max_count; ++round) {
@@ -281,7 +360,7 @@ std::vector<Segment> search(Pixels& f, const std::vector<PrimitiveClass>& classe
     for (int i = 0; i < f.H * f.W; i += 1)
       if (f.free[i] && (!mask || mask[i]) && (i / f.W) % step == 0 && (i % f.W) % step == 0) pool.push_back(i);
     if (pool.size() < 4) break;
-    auto cands = draw(f, pool, round, f.o.candidates_per_iteration, classes, min_r, max_r, mask, body);
+    auto cands = draw(f, pool, round, f.o.candidates_per_iteration, classes, min_r, max_r, mask);
     if (cands.empty()) break;
     // the most locally supported candidates get a grid component score (in parallel)
     std::stable_sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
@@ -304,6 +383,80 @@ std::vector<Segment> search(Pixels& f, const std::vector<PrimitiveClass>& classe
     }
     for (int i : s.pixels) f.free[i] = 0;
     out.push_back(std::move(s));
+  }
+  return out;
+}
+
+/// The pixels of a handle torus: of the usable pixels in `region`, those within epsilon of it
+/// whose normal faces out of the tube (near_facing: a tube of a few millimetres is about as thick
+/// as the normals' window, so its normals are too poor for the usual deviation), largest
+/// 8-connected group.
+std::vector<int> handle_pixels(const Pixels& f, const Segment& t, const std::vector<int>& region) {
+  std::vector<int> fit;
+  for (int i : region)
+    if (f.free[i] && f.near_facing(t, i)) fit.push_back(i);
+  // label 8-connected groups among `fit` (a small set: a map from pixel to group)
+  std::vector<int> group(fit.size(), -1);
+  std::unordered_map<int, int> where;
+  for (std::size_t k = 0; k < fit.size(); ++k) where[fit[k]] = int(k);
+  int best = -1, best_size = 0, groups = 0;
+  for (std::size_t k = 0; k < fit.size(); ++k) {
+    if (group[k] >= 0) continue;
+    int size = 0;
+    std::vector<int> stack{int(k)};
+    group[k] = groups;
+    while (!stack.empty()) {
+      const int m = stack.back();
+      stack.pop_back();
+      ++size;
+      const int v = fit[m] / f.W, u = fit[m] % f.W;
+      for (int dv = -1; dv <= 1; ++dv)
+        for (int du = -1; du <= 1; ++du) {
+          if ((!dv && !du) || v + dv < 0 || v + dv >= f.H || u + du < 0 || u + du >= f.W) continue;
+          const auto it = where.find((v + dv) * f.W + u + du);
+          if (it != where.end() && group[it->second] < 0) group[it->second] = groups, stack.push_back(it->second);
+        }
+    }
+    if (size > best_size) best = groups, best_size = size;
+    ++groups;
+  }
+  std::vector<int> out;
+  for (std::size_t k = 0; k < fit.size(); ++k)
+    if (group[k] == best) out.push_back(fit[k]);
+  return out;
+}
+
+/// The model-driven handle search next to `body`: the best of handle_hypotheses() by its pixels
+/// (handle_pixels), refined twice with the ring plane held through the body's axis; repeated
+/// while another handle has the support (at most `max_count`).
+std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::uint8_t* mask, int min_support,
+                                    int max_count, const ColorImage* color) {
+  std::vector<Segment> out;
+  std::vector<int> region;
+  for (int i = 0; i < f.H * f.W; ++i)
+    if (f.free[i] && (!mask || mask[i])) region.push_back(i);
+  while (int(out.size()) < max_count) {
+    const auto cands = handle_hypotheses(f, body, mask, min_support);
+    Segment best;
+    std::vector<int> best_pix;
+    for (const Candidate& c : cands) {
+      auto pix = handle_pixels(f, c.s, region);
+      if (pix.size() > best_pix.size()) best = c.s, best_pix = std::move(pix);
+    }
+    if (int(best_pix.size()) < min_support) break;
+    for (int round = 0; round < 2; ++round) {
+      std::vector<Eigen::Vector3d> pts;
+      for (int i : best_pix) pts.push_back(f.p(i));
+      best = detail::refit_handle(body, best, pts);
+      best_pix = handle_pixels(f, best, region);
+    }
+    if (int(best_pix.size()) < min_support || !plausible(best, f.o, f.o.max_major_radius, 0.0)) break;
+    std::vector<Eigen::Vector3d> pts;
+    for (int i : best_pix) pts.push_back(f.p(i));
+    best = detail::refit_handle(body, best, pts);  // residual of the final pixels
+    for (int i : best_pix) f.free[i] = 0;
+    describe(f, best, std::move(best_pix), color);
+    out.push_back(std::move(best));
   }
   return out;
 }
@@ -388,11 +541,19 @@ std::vector<Segment> find_primitive(const Cloud& cloud, const NormalMap& normals
   if (region.min_minor_radius > 0) local.min_minor_radius = region.min_minor_radius;
   if (region.max_minor_radius > 0) local.max_minor_radius = region.max_minor_radius;
   local.max_iterations = std::min(o.max_iterations, 8);
+  // a handle's tube is about as thick as the normals' window: its normals are poor, so the
+  // attached search accepts twice the usual deviation (the geometric fit does not use them)
+  // and the visible side of a noisy tube of a few millimetres reads thinner than it is
+  if (cls == PrimitiveClass::Torus && region.attached_to) {
+    local.normal_deviation_deg = std::max(o.normal_deviation_deg, 2 * o.normal_deviation_deg);
+    if (region.min_minor_radius <= 0) local.min_minor_radius = 0.5 * o.min_minor_radius;
+  }
   Pixels g(cloud, normals, local);
   g.free = f.free;
-  const Segment* body = cls == PrimitiveClass::Torus && region.attached_to ? &*region.attached_to : nullptr;
+  if (cls == PrimitiveClass::Torus && region.attached_to)
+    return search_handles(g, *region.attached_to, mask.data(), o.min_support_torus, max_count, color);
   return search(g, {cls}, mask.data(), std::max(1, o.min_support / 4), o.min_support_torus, min_r, max_r, max_count,
-                color, body);
+                color);
 }
 
 }  // namespace mereo::features

@@ -2,6 +2,7 @@
 #include "features/shapes.hpp"
 
 #include <cmath>
+#include <functional>
 
 #include <Eigen/Dense>
 
@@ -177,6 +178,54 @@ Segment unpack(const Segment& like, const Eigen::VectorXd& v) {
   return s;
 }
 
+/// Levenberg-Marquardt on the residuals f(x) (N of them), numerical Jacobian; x is updated.
+void levenberg_marquardt(Eigen::VectorXd& x, int N, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& f) {
+  const int P = int(x.size());
+  Eigen::VectorXd r(N), r2(N);
+  f(x, r);
+  double cost = r.squaredNorm(), lambda = 1e-3;
+  Eigen::MatrixXd J(N, P);
+  for (int it = 0; it < 30; ++it) {
+    for (int k = 0; k < P; ++k) {
+      Eigen::VectorXd xp = x;
+      const double h = 1e-6 * std::max(1.0, std::abs(x(k)));
+      xp(k) += h;
+      f(xp, r2);
+      J.col(k) = (r2 - r) / h;
+    }
+    const Eigen::MatrixXd A = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    bool improved = false;
+    for (int tries = 0; tries < 8 && !improved; ++tries) {
+      Eigen::MatrixXd Ad = A;
+      Ad.diagonal() *= (1 + lambda);
+      const Eigen::VectorXd step = Ad.ldlt().solve(-g);
+      const Eigen::VectorXd xn = x + step;
+      f(xn, r2);
+      const double c2 = r2.squaredNorm();
+      if (std::isfinite(c2) && c2 < cost) {
+        x = xn, r = r2, lambda *= 0.3;
+        improved = cost - c2 > 1e-14 * cost;
+        cost = c2;
+        if (!improved) break;
+        improved = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) break;
+  }
+}
+
+void set_residual(Segment& s, const std::vector<Eigen::Vector3d>& points) {
+  double ss = 0;
+  for (const auto& p : points) {
+    const double d = signed_distance(s, p);
+    ss += d * d;
+  }
+  s.residual = points.empty() ? 0.0 : std::sqrt(ss / double(points.size()));
+}
+
 }  // namespace
 
 Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& points) {
@@ -194,53 +243,50 @@ Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& poin
     s.axis = n, s.d = -n.dot(c), s.point = c;
   } else {
     Eigen::VectorXd x = pack(s);
-    const int P = int(x.size()), N = int(points.size());
-    auto residuals = [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+    const int N = int(points.size());
+    levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
       const Segment t = unpack(s0, v);
       for (int i = 0; i < N; ++i) r(i) = signed_distance(t, points[i]);
-    };
-    Eigen::VectorXd r(N), r2(N);
-    residuals(x, r);
-    double cost = r.squaredNorm(), lambda = 1e-3;
-    Eigen::MatrixXd J(N, P);
-    for (int it = 0; it < 30; ++it) {
-      for (int k = 0; k < P; ++k) {
-        Eigen::VectorXd xp = x;
-        const double h = 1e-6 * std::max(1.0, std::abs(x(k)));
-        xp(k) += h;
-        residuals(xp, r2);
-        J.col(k) = (r2 - r) / h;
-      }
-      const Eigen::MatrixXd A = J.transpose() * J;
-      const Eigen::VectorXd g = J.transpose() * r;
-      bool improved = false;
-      for (int tries = 0; tries < 8 && !improved; ++tries) {
-        Eigen::MatrixXd Ad = A;
-        Ad.diagonal() *= (1 + lambda);
-        const Eigen::VectorXd step = Ad.ldlt().solve(-g);
-        const Eigen::VectorXd xn = x + step;
-        residuals(xn, r2);
-        const double c2 = r2.squaredNorm();
-        if (std::isfinite(c2) && c2 < cost) {
-          x = xn, r = r2, lambda *= 0.3;
-          improved = cost - c2 > 1e-14 * cost;
-          cost = c2;
-          if (!improved) break;
-          improved = true;
-        } else {
-          lambda *= 10;
-        }
-      }
-      if (!improved) break;
-    }
+    });
     s = unpack(s0, x);
   }
-  double ss = 0;
-  for (const auto& p : points) {
-    const double d = signed_distance(s, p);
-    ss += d * d;
+  set_residual(s, points);
+  return s;
+}
+
+namespace {
+/// A handle's torus from (azimuth, height, distance from the axis, ring radius, tube radius)
+/// about `body`: the ring plane holds the body's axis.
+Segment handle_torus(const Segment& body, const Eigen::VectorXd& v) {
+  const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  const Eigen::Vector3d u = std::cos(v(0)) * e1 + std::sin(v(0)) * e2;
+  Segment t;
+  t.cls = PrimitiveClass::Torus;
+  t.point = body.point + a * v(1) + u * v(2);
+  t.axis = a.cross(u).normalized();
+  t.radius = v(3);
+  t.minor_radius = v(4);
+  return t;
+}
+}  // namespace
+
+Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points) {
+  const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  const Eigen::Vector3d q = t0.point - body.point;
+  const double h = a.dot(q);
+  const Eigen::Vector3d radial = q - a * h;
+  Eigen::VectorXd x(5);
+  x << std::atan2(radial.dot(e2), radial.dot(e1)), h, radial.norm(), t0.radius, t0.minor_radius;
+  if (points.size() >= 5) {
+    const int N = int(points.size());
+    levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+      const Segment t = handle_torus(body, v);
+      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, points[i]);
+    });
   }
-  s.residual = std::sqrt(ss / double(points.size()));
+  Segment s = handle_torus(body, x);
+  s.id = t0.id, s.pixels = t0.pixels, s.inliers = t0.inliers;
+  set_residual(s, points);
   return s;
 }
 

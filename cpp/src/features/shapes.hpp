@@ -30,6 +30,13 @@ std::optional<Segment> torus_from(const Eigen::Vector3d* p, const Eigen::Vector3
 /// Levenberg-Marquardt on the geometric distance, from `s` (planes: PCA). Sets residual (RMS).
 Segment refit_points(const Segment& s, const std::vector<Eigen::Vector3d>& points);
 
+/// A handle's torus attached to `body` refined by Levenberg-Marquardt on the geometric distance,
+/// from `t0`, with its ring plane held through the body's axis (5 parameters: azimuth, height,
+/// distance of the centre from the axis, ring radius, tube radius). Only the side of a thin tube
+/// that faces the camera is seen; a free fit can then trade a tilted ring plane for a fat tube,
+/// while with the plane held the tube radius is how far the points stand out of it.
+Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points);
+
 /// Cylinder: `point` moved to the middle of the points' extent along the axis and `height` set;
 /// plane: `point` = centroid. Others unchanged.
 void set_extent(Segment& s, const std::vector<Eigen::Vector3d>& points);

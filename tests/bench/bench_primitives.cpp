@@ -1,0 +1,244 @@
+// bench_primitives: primitive detection (features::detect_primitives) against CGAL's Efficient
+// RANSAC (planes, cylinders, spheres, tori) and PCL's SACSegmentationFromNormals
+// (SACMODEL_NORMAL_PLANE, then SACMODEL_CYLINDER, extracted repeatedly), in one process on the
+// same points and normals:
+//  - noisy synthetic VGA frames (seeds 900-919): body recall (cylindrical bodies with >= 500
+//    visible pixels), median radius and axis errors, handle recall (mug handles with >= 150
+//    visible pixels within 1.2 m), false cylinders per frame (eval_primitives.hpp);
+//  - the 24 mOSD frames: per frame, the upright cylindrical objects (reference circle fits to
+//    the labelled points) and whether each method gives one of them a cylinder whose inliers
+//    are at least 80% that object's;
+//  - pcl/table_scene_mug_stereo_textured.pcd: the mug body's radius against a circle fitted to
+//    the wall points above the table.
+// Times are per frame (median), mereo's over its whole detection (planes, cylinders, spheres,
+// tori and the handle search). The last line is one JSON object.
+//
+//   bench_primitives            20 synthetic frames, 24 mOSD frames, the real mug
+//   bench_primitives --quick    2 synthetic frames, 2 mOSD frames, the mug, CGAL on one frame
+//   options: --synthetic N, --real N (frame counts), --mereo-only (skip the anchors; tuning)
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "anchors/anchors.hpp"
+#include "bench_util.hpp"
+#include "eval_primitives.hpp"
+#include "mereo/extension/normals.hpp"
+#include "mereo/extension/projection.hpp"
+#include "mereo/extension/support_plane.hpp"
+#include "mereo/features/primitives.hpp"
+#include "mereo/io/io.hpp"
+#include "mereo/synthetic/scene.hpp"
+
+namespace fs = std::filesystem;
+using namespace mereo;
+using bench::median;
+using bench::now_ms;
+
+namespace {
+
+struct Input {
+  std::string name;
+  Cloud cloud;
+  NormalMap normals;
+  ColorImage color;
+  std::vector<int> index;                  // finite pixel of each anchor point
+  std::vector<Eigen::Vector3f> points, point_normals;
+  std::optional<synthetic::GroundTruth> truth;
+  LabelImage labels;                        // mOSD
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();  // the table's normal (real frames)
+};
+
+Input prepare(std::string name, Cloud cloud, ColorImage color) {
+  Input in;
+  in.name = std::move(name);
+  in.cloud = std::move(cloud);
+  in.color = std::move(color);
+  in.normals = extension::estimate_normals(in.cloud);
+  for (std::size_t i = 0; i < in.cloud.pixels(); ++i) {
+    const float* p = in.cloud.data() + 3 * i;
+    const float* n = in.normals.data() + 3 * i;
+    if (!std::isfinite(p[2]) || !std::isfinite(n[0])) continue;
+    in.index.push_back(int(i));
+    in.points.emplace_back(p[0], p[1], p[2]);
+    in.point_normals.emplace_back(n[0], n[1], n[2]);
+  }
+  return in;
+}
+
+/// An anchor's shapes as segments over the frame's pixels.
+std::vector<Segment> to_segments(const std::vector<bench::AnchorShape>& shapes, const Input& in) {
+  std::vector<Segment> out;
+  for (const auto& a : shapes) {
+    Segment s;
+    s.cls = primitive_class(a.cls);
+    s.point = a.point, s.axis = a.axis.normalized(), s.radius = a.radius, s.minor_radius = a.minor_radius;
+    for (int k : a.indices) s.pixels.push_back(in.index[k]);
+    s.inliers = s.pixels.size();
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+struct Method {
+  std::string name;
+  std::function<std::vector<Segment>(const Input&)> run;
+  std::vector<double> ms;
+  bench::SyntheticScore syn;
+  int mosd_objects = 0, mosd_found = 0;
+  std::vector<std::string> mosd_rows;
+  double mug_radius_err_mm = NAN;
+  int runs_left = 1 << 30;  // CGAL in quick mode: one frame only
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false, mereo_only = false;
+  int n_syn = 20, n_real = 24;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true, n_syn = 2, n_real = 2;
+    else if (a == "--mereo-only") mereo_only = true;  // for tuning: skip the anchors
+    else if (a == "--synthetic" && i + 1 < argc) n_syn = std::stoi(argv[++i]);
+    else if (a == "--real" && i + 1 < argc) n_real = std::stoi(argv[++i]);
+  }
+
+  std::vector<Input> inputs;
+  for (int s = 0; s < n_syn; ++s) {
+    auto sf = synthetic::render(std::uint64_t(900 + s));
+    Input in = prepare("synthetic:" + std::to_string(900 + s), extension::back_project(sf.frame), sf.frame.color);
+    in.truth = std::move(sf.truth);
+    inputs.push_back(std::move(in));
+  }
+  const fs::path real = fs::path(MEREO_REAL_DATA);
+  std::vector<fs::path> files;
+  if (fs::is_directory(real / "pcl-mosd"))
+    for (const auto& e : fs::directory_iterator(real / "pcl-mosd"))
+      if (e.path().extension() == ".pcd") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  if (int(files.size()) > n_real) files.resize(n_real);
+  for (const auto& path : files) {
+    const Frame f = io::read(path.string());
+    Input in = prepare(path.filename().string(), extension::back_project(f), f.color);
+    in.labels = f.labels;
+    in.up = extension::find_support_plane(in.cloud, in.normals).normal;
+    inputs.push_back(std::move(in));
+  }
+  // the real mug: its reference is a circle through the wall points above the table, trimmed
+  // of the handle
+  double mug_reference = NAN;
+  const fs::path mug_file = real / "pcl" / "table_scene_mug_stereo_textured.pcd";
+  if (fs::exists(mug_file)) {
+    const Frame f = io::read(mug_file.string());
+    Input in = prepare("table_scene_mug", extension::back_project(f), f.color);
+    const auto plane = extension::find_support_plane(in.cloud, in.normals);
+    in.up = plane.normal;
+    const auto wall = bench::wall_points(in.cloud, in.normals, in.up, [&](std::size_t i) { return plane.roi.data()[i] != 0; });
+    const bench::Circle c = bench::fit_circle(wall, 0.01);
+    mug_reference = c.radius;
+    std::printf("real mug reference: circle through %zu wall points above the table, radius %.1f mm, RMS %.2f mm\n",
+                c.points, 1000 * c.radius, 1000 * c.rms);
+    inputs.push_back(std::move(in));
+  }
+
+  bench::AnchorOptions ao;  // same tolerances as mereo's defaults at 1 m
+  std::vector<Method> methods;
+  methods.push_back({"mereo detect_primitives", [](const Input& in) {
+                       return features::detect_primitives(in.cloud, in.normals, {}, &in.color);
+                     }});
+  methods.push_back({"cgal Efficient_RANSAC", [&](const Input& in) {
+                       return to_segments(bench::cgal_efficient_ransac(in.points, in.point_normals, ao), in);
+                     }});
+  methods.push_back({"pcl SACSegmentationFromNormals", [&](const Input& in) {
+                       return to_segments(bench::pcl_sac_cylinders(in.points, in.point_normals, ao), in);
+                     }});
+  if (quick) methods[1].runs_left = 1;
+  if (mereo_only) methods[1].runs_left = methods[2].runs_left = 0;
+
+  for (const Input& in : inputs) {
+    for (Method& m : methods) {
+      if (m.runs_left-- <= 0) continue;
+      const double t0 = now_ms();
+      const auto found = m.run(in);
+      m.ms.push_back(now_ms() - t0);
+      if (in.truth) {
+        bench::score_synthetic(*in.truth, found, in.name, m.syn);
+      } else if (!in.labels.empty()) {
+        const auto objects = bench::mosd_cylinders(in.cloud, in.normals, in.labels, in.up);
+        std::string row = in.name + ":";
+        for (const auto& o : objects) {
+          bool hit = false;
+          for (const Segment& s : found) {
+            if (s.cls != PrimitiveClass::Cylinder || s.pixels.empty()) continue;
+            int mine = 0;
+            for (int i : s.pixels) mine += in.labels.data()[i] >= 20 && in.labels.data()[i] / 10 == o.object;
+            hit = hit || mine >= 0.8 * s.pixels.size();
+          }
+          ++m.mosd_objects, m.mosd_found += hit;
+          char cell[64];
+          std::snprintf(cell, sizeof cell, " %u(r=%.0fmm)%s", o.object, 1000 * o.radius, hit ? "+" : "-");
+          row += cell;
+        }
+        m.mosd_rows.push_back(row);
+      } else if (std::isfinite(mug_reference)) {
+        // the cylinder of the right size closest to the reference's radius
+        double best = NAN;
+        for (const Segment& s : found)
+          if (s.cls == PrimitiveClass::Cylinder && std::abs(s.radius - mug_reference) < 0.02 &&
+              !(std::abs(s.radius - mug_reference) >= best))
+            best = std::abs(s.radius - mug_reference);
+        m.mug_radius_err_mm = 1000 * best;
+      }
+    }
+  }
+
+  std::printf("bench_primitives: %d synthetic frames (seeds 900-%d), %zu mOSD frames, the real mug\n\n", n_syn,
+              900 + n_syn - 1, files.size());
+  std::printf("%-32s %9s %8s %8s %8s %8s %8s %9s %9s %9s %8s\n", "method", "ms/frame", "bodies", "recall", "rad mm",
+              "axis deg", "handles", "h.recall", "false cyl", "false tor", "mOSD");
+  for (const Method& m : methods) {
+    std::printf("%-32s %9.1f %4d/%-3d %8.3f %8.2f %8.2f %4d/%-3d %9.3f %9.2f %9.2f %4d/%-3d\n", m.name.c_str(),
+                median(m.ms), m.syn.bodies_found, m.syn.bodies, m.syn.body_recall(), median(m.syn.radius_err_mm),
+                median(m.syn.axis_err_deg), m.syn.handles_found, m.syn.handles, m.syn.handle_recall(),
+                m.syn.false_cylinders_per_frame(), m.syn.frames ? double(m.syn.false_tori) / m.syn.frames : NAN,
+                m.mosd_found, m.mosd_objects);
+  }
+  std::printf("\nmOSD upright cylindrical objects per frame (object id, reference radius, + found / - not):\n");
+  for (std::size_t r = 0; r < methods[0].mosd_rows.size(); ++r) {
+    std::printf("  mereo %s\n", methods[0].mosd_rows[r].c_str());
+    for (std::size_t k = 1; k < methods.size(); ++k)
+      if (r < methods[k].mosd_rows.size())
+        std::printf("  %-5.5s %s\n", methods[k].name.c_str(), methods[k].mosd_rows[r].c_str() + methods[k].mosd_rows[r].find(':'));
+  }
+  std::printf("\nreal mug body radius error (mm):");
+  for (const Method& m : methods) std::printf("  %s %.2f", m.name.c_str(), m.mug_radius_err_mm);
+  std::printf("\nmissed by mereo:");
+  for (const auto& s : methods[0].syn.missed) std::printf(" %s;", s.c_str());
+  std::printf("\n");
+
+  auto figures = [](const Method& m) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "{\"median_ms\": %.2f, \"body_recall\": %.4f, \"median_radius_error_mm\": %.3f, "
+                  "\"median_axis_error_deg\": %.3f, \"handle_recall\": %.4f, \"false_cylinders_per_frame\": %.3f, "
+                  "\"false_tori_per_frame\": %.3f, "
+                  "\"mosd_found\": %d, \"mosd_objects\": %d, \"mug_radius_error_mm\": %.3f}",
+                  median(m.ms), m.syn.body_recall(), median(m.syn.radius_err_mm), median(m.syn.axis_err_deg),
+                  m.syn.handle_recall(), m.syn.false_cylinders_per_frame(),
+                  m.syn.frames ? double(m.syn.false_tori) / m.syn.frames : NAN, m.mosd_found, m.mosd_objects,
+                  m.mug_radius_err_mm);
+    return std::string(buf);
+  };
+  std::printf("{\"bench\": \"primitives\", \"quick\": %s, \"synthetic_frames\": %d, \"mosd_frames\": %zu, "
+              "\"mereo\": %s, \"cgal\": %s, \"pcl\": %s, \"speedup_vs_cgal\": %.2f, \"speedup_vs_pcl\": %.2f}\n",
+              quick ? "true" : "false", n_syn, files.size(), figures(methods[0]).c_str(), figures(methods[1]).c_str(),
+              figures(methods[2]).c_str(), median(methods[1].ms) / median(methods[0].ms),
+              median(methods[2].ms) / median(methods[0].ms));
+  return 0;
+}

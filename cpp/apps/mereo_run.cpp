@@ -2,11 +2,12 @@
 //
 //   mereo-run GRAPH.yaml INPUT... [--mode parallel|deterministic] [--in-flight K]
 //             [--on-error stop|skip] [--intrinsics fx,fy,cx,cy|FILE] [--depth-scale S]
-//             [--frames N] [--trace FILE]
+//             [--frames N] [--trace FILE] [--result NODE.PORT]
 //   mereo-run --list                 every node kind with its ports and options
 //
 // Prints one JSON line per frame (its id and a summary of each kept output), then per-node
-// timings on stderr. Bad input: one line on stderr and exit status 2.
+// timings on stderr. With --result NODE.PORT (a report node's output) each line is that
+// frame's result, as `mereo recognize` writes it, with "timing_ms" per node. Bad input: one line on stderr and exit status 2.
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -26,7 +27,7 @@ namespace {
 int usage() {
   std::cerr << "usage: mereo-run GRAPH.yaml INPUT... [--mode parallel|deterministic] [--in-flight K]\n"
                "                 [--on-error stop|skip] [--intrinsics fx,fy,cx,cy|FILE] [--depth-scale S]\n"
-               "                 [--frames N] [--trace FILE]\n"
+               "                 [--frames N] [--trace FILE] [--result NODE.PORT]\n"
                "       mereo-run --list\n";
   return 2;
 }
@@ -47,7 +48,7 @@ int main(int argc, char** argv) {
   graph::RunOptions run;
   run.mode = graph::Mode::Parallel;
   io::ReadOptions read;
-  std::string trace;
+  std::string trace, result;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -77,6 +78,9 @@ int main(int argc, char** argv) {
         read.depth_scale = std::stod(next());
       } else if (a == "--frames") {
         read.synthetic_frames = std::stoi(next());
+      } else if (a == "--result") {
+        result = next();
+        run.keep.push_back(result);
       } else if (a == "--trace") {
         trace = next();
         run.trace = true;
@@ -90,7 +94,17 @@ int main(int argc, char** argv) {
     graph::Graph g = graph::Graph::load(positional[0]);
     const io::Sequence seq = io::open({positional.begin() + 1, positional.end()}, read);
     const auto source = graph::FrameSource::from_function(seq.size(), [&](std::size_t i) { return seq.load(i); });
-    const auto summary = g.run(source, run, [](graph::FrameResult&& r) {
+    const auto summary = g.run(source, run, [&](graph::FrameResult&& r) {
+      const auto it = result.empty() ? r.outputs.end() : r.outputs.find(result);
+      if (it != r.outputs.end() && it->second.type().name == "Text") {
+        // the JSON result of a report node, with this frame's per-node times
+        nlohmann::json line = nlohmann::json::parse(it->second.get<std::string>());
+        double total = 0;
+        for (const auto& [node, ms] : r.timings_ms) line["timing_ms"][node] = ms, total += ms;
+        line["timing_ms"]["total"] = total;
+        std::cout << line.dump() << std::endl;
+        return;
+      }
       nlohmann::json line = {{"frame", r.frame_id}, {"index", r.index}};
       for (const auto& [name, v] : r.outputs) line["outputs"][name] = v.describe();
       if (r.error) line["error"] = r.error->what();

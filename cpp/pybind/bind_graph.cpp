@@ -208,6 +208,9 @@ py::dict result_to_python(const FrameResult& r) {
   for (const auto& [k, v] : r.outputs) outs[py::str(k)] = value_to_python(v);
   d["outputs"] = outs;
   d["error"] = r.error ? py::object(py::str(r.error->what())) : py::object(py::none());
+  py::dict times;
+  for (const auto& [k, v] : r.timings_ms) times[py::str(k)] = v;
+  d["timings_ms"] = times;
   return d;
 }
 

@@ -44,6 +44,7 @@ void bind_knowledge(py::module_& m) {
       .def_readwrite("inliers", &Segment::inliers)
       .def_readwrite("residual", &Segment::residual)
       .def_readwrite("hue", &Segment::hue)
+      .def_readwrite("inward", &Segment::inward, "seen from inside (a mug's inner wall)")
       .def_property_readonly("pixels",
                              [](const Segment& s) {
                                py::array_t<int> a(py::ssize_t(s.pixels.size()));

@@ -1,10 +1,15 @@
 // bench_primitives: primitive detection (features::detect_primitives) against CGAL's Efficient
 // RANSAC (planes, cylinders, spheres, tori) and PCL's SACSegmentationFromNormals
 // (SACMODEL_NORMAL_PLANE, then SACMODEL_CYLINDER, extracted repeatedly), in one process on the
-// same points and normals:
+// same points and normals, in two settings:
+//  - the whole frame, every class: mereo and CGAL on all valid pixels;
+//  - the region above the table (the pipeline's setting, find_support_plane's ROI): mereo and
+//    PCL on the same pixels (PCL's cylinder segmentation visits every point per iteration: on a
+//    whole VGA frame it takes minutes).
+// Figures, per method:
 //  - noisy synthetic VGA frames (seeds 900-919): body recall (cylindrical bodies with >= 500
 //    visible pixels), median radius and axis errors, handle recall (mug handles with >= 150
-//    visible pixels within 1.2 m), false cylinders per frame (eval_primitives.hpp);
+//    visible pixels within 1.2 m), false cylinders and tori per frame (eval_primitives.hpp);
 //  - the 24 mOSD frames: per frame, the upright cylindrical objects (reference circle fits to
 //    the labelled points) and whether each method gives one of them a cylinder whose inliers
 //    are at least 80% that object's;
@@ -13,8 +18,8 @@
 // Times are per frame (median), mereo's over its whole detection (planes, cylinders, spheres,
 // tori and the handle search). The last line is one JSON object.
 //
-//   bench_primitives            20 synthetic frames, 24 mOSD frames, the real mug
-//   bench_primitives --quick    2 synthetic frames, 2 mOSD frames, the mug, CGAL on one frame
+//   bench_primitives            20 synthetic frames, 24 mOSD frames, the real mug (~10 min)
+//   bench_primitives --quick    1 synthetic frame, 1 mOSD frame, the mug (ctest)
 //   options: --synthetic N, --real N (frame counts), --mereo-only (skip the anchors; tuning)
 #include <algorithm>
 #include <cmath>
@@ -49,6 +54,9 @@ struct Input {
   ColorImage color;
   std::vector<int> index;                  // finite pixel of each anchor point
   std::vector<Eigen::Vector3f> points, point_normals;
+  extension::Mask roi;                      // above the table
+  std::vector<int> roi_index;               // the same for the points of the ROI
+  std::vector<Eigen::Vector3f> roi_points, roi_normals;
   std::optional<synthetic::GroundTruth> truth;
   LabelImage labels;                        // mOSD
   Eigen::Vector3d up = Eigen::Vector3d::Zero();  // the table's normal (real frames)
@@ -60,6 +68,9 @@ Input prepare(std::string name, Cloud cloud, ColorImage color) {
   in.cloud = std::move(cloud);
   in.color = std::move(color);
   in.normals = extension::estimate_normals(in.cloud);
+  const auto plane = extension::find_support_plane(in.cloud, in.normals);
+  in.up = plane.normal;
+  in.roi = plane.roi;
   for (std::size_t i = 0; i < in.cloud.pixels(); ++i) {
     const float* p = in.cloud.data() + 3 * i;
     const float* n = in.normals.data() + 3 * i;
@@ -67,18 +78,22 @@ Input prepare(std::string name, Cloud cloud, ColorImage color) {
     in.index.push_back(int(i));
     in.points.emplace_back(p[0], p[1], p[2]);
     in.point_normals.emplace_back(n[0], n[1], n[2]);
+    if (!in.roi.data()[i]) continue;
+    in.roi_index.push_back(int(i));
+    in.roi_points.emplace_back(p[0], p[1], p[2]);
+    in.roi_normals.emplace_back(n[0], n[1], n[2]);
   }
   return in;
 }
 
 /// An anchor's shapes as segments over the frame's pixels.
-std::vector<Segment> to_segments(const std::vector<bench::AnchorShape>& shapes, const Input& in) {
+std::vector<Segment> to_segments(const std::vector<bench::AnchorShape>& shapes, const std::vector<int>& index) {
   std::vector<Segment> out;
   for (const auto& a : shapes) {
     Segment s;
     s.cls = primitive_class(a.cls);
     s.point = a.point, s.axis = a.axis.normalized(), s.radius = a.radius, s.minor_radius = a.minor_radius;
-    for (int k : a.indices) s.pixels.push_back(in.index[k]);
+    for (int k : a.indices) s.pixels.push_back(index[k]);
     s.inliers = s.pixels.size();
     out.push_back(std::move(s));
   }
@@ -86,14 +101,14 @@ std::vector<Segment> to_segments(const std::vector<bench::AnchorShape>& shapes, 
 }
 
 struct Method {
-  std::string name;
+  std::string name, tag;  // tag: a short name for the per-frame table
   std::function<std::vector<Segment>(const Input&)> run;
   std::vector<double> ms;
   bench::SyntheticScore syn;
   int mosd_objects = 0, mosd_found = 0;
   std::vector<std::string> mosd_rows;
   double mug_radius_err_mm = NAN;
-  int runs_left = 1 << 30;  // CGAL in quick mode: one frame only
+  int runs_left = 1 << 30;  // --mereo-only: 0 for the anchors
 };
 
 }  // namespace
@@ -103,7 +118,7 @@ int main(int argc, char** argv) {
   int n_syn = 20, n_real = 24;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true, n_syn = 2, n_real = 2;
+    if (a == "--quick") quick = true, n_syn = 1, n_real = 1;
     else if (a == "--mereo-only") mereo_only = true;  // for tuning: skip the anchors
     else if (a == "--synthetic" && i + 1 < argc) n_syn = std::stoi(argv[++i]);
     else if (a == "--real" && i + 1 < argc) n_real = std::stoi(argv[++i]);
@@ -127,7 +142,6 @@ int main(int argc, char** argv) {
     const Frame f = io::read(path.string());
     Input in = prepare(path.filename().string(), extension::back_project(f), f.color);
     in.labels = f.labels;
-    in.up = extension::find_support_plane(in.cloud, in.normals).normal;
     inputs.push_back(std::move(in));
   }
   // the real mug: its reference is a circle through the wall points above the table, trimmed
@@ -137,9 +151,7 @@ int main(int argc, char** argv) {
   if (fs::exists(mug_file)) {
     const Frame f = io::read(mug_file.string());
     Input in = prepare("table_scene_mug", extension::back_project(f), f.color);
-    const auto plane = extension::find_support_plane(in.cloud, in.normals);
-    in.up = plane.normal;
-    const auto wall = bench::wall_points(in.cloud, in.normals, in.up, [&](std::size_t i) { return plane.roi.data()[i] != 0; });
+    const auto wall = bench::wall_points(in.cloud, in.normals, in.up, [&](std::size_t i) { return in.roi.data()[i] != 0; });
     const bench::Circle c = bench::fit_circle(wall, 0.01);
     mug_reference = c.radius;
     std::printf("real mug reference: circle through %zu wall points above the table, radius %.1f mm, RMS %.2f mm\n",
@@ -149,17 +161,21 @@ int main(int argc, char** argv) {
 
   bench::AnchorOptions ao;  // same tolerances as mereo's defaults at 1 m
   std::vector<Method> methods;
-  methods.push_back({"mereo detect_primitives", [](const Input& in) {
+  methods.push_back({"mereo, whole frame", "mereo", [](const Input& in) {
                        return features::detect_primitives(in.cloud, in.normals, {}, &in.color);
                      }});
-  methods.push_back({"cgal Efficient_RANSAC", [&](const Input& in) {
-                       return to_segments(bench::cgal_efficient_ransac(in.points, in.point_normals, ao), in);
+  methods.push_back({"cgal Efficient_RANSAC, whole frame", "cgal", [&](const Input& in) {
+                       return to_segments(bench::cgal_efficient_ransac(in.points, in.point_normals, ao), in.index);
                      }});
-  methods.push_back({"pcl SACSegmentationFromNormals", [&](const Input& in) {
-                       return to_segments(bench::pcl_sac_cylinders(in.points, in.point_normals, ao), in);
+  methods.push_back({"mereo, above the table", "mereo/roi", [](const Input& in) {
+                       features::DetectOptions o;
+                       o.roi = in.roi;
+                       return features::detect_primitives(in.cloud, in.normals, o, &in.color);
                      }});
-  if (quick) methods[1].runs_left = 1;
-  if (mereo_only) methods[1].runs_left = methods[2].runs_left = 0;
+  methods.push_back({"pcl SACSegmentationFromNormals, above", "pcl/roi", [&](const Input& in) {
+                       return to_segments(bench::pcl_sac_cylinders(in.roi_points, in.roi_normals, ao), in.roi_index);
+                     }});
+  if (mereo_only) methods[1].runs_left = methods[3].runs_left = 0;
 
   for (const Input& in : inputs) {
     for (Method& m : methods) {
@@ -200,22 +216,19 @@ int main(int argc, char** argv) {
 
   std::printf("bench_primitives: %d synthetic frames (seeds 900-%d), %zu mOSD frames, the real mug\n\n", n_syn,
               900 + n_syn - 1, files.size());
-  std::printf("%-32s %9s %8s %8s %8s %8s %8s %9s %9s %9s %8s\n", "method", "ms/frame", "bodies", "recall", "rad mm",
+  std::printf("%-38s %9s %8s %8s %8s %8s %8s %9s %9s %9s %8s\n", "method", "ms/frame", "bodies", "recall", "rad mm",
               "axis deg", "handles", "h.recall", "false cyl", "false tor", "mOSD");
   for (const Method& m : methods) {
-    std::printf("%-32s %9.1f %4d/%-3d %8.3f %8.2f %8.2f %4d/%-3d %9.3f %9.2f %9.2f %4d/%-3d\n", m.name.c_str(),
+    std::printf("%-38s %9.1f %4d/%-3d %8.3f %8.2f %8.2f %4d/%-3d %9.3f %9.2f %9.2f %4d/%-3d\n", m.name.c_str(),
                 median(m.ms), m.syn.bodies_found, m.syn.bodies, m.syn.body_recall(), median(m.syn.radius_err_mm),
                 median(m.syn.axis_err_deg), m.syn.handles_found, m.syn.handles, m.syn.handle_recall(),
                 m.syn.false_cylinders_per_frame(), m.syn.frames ? double(m.syn.false_tori) / m.syn.frames : NAN,
                 m.mosd_found, m.mosd_objects);
   }
   std::printf("\nmOSD upright cylindrical objects per frame (object id, reference radius, + found / - not):\n");
-  for (std::size_t r = 0; r < methods[0].mosd_rows.size(); ++r) {
-    std::printf("  mereo %s\n", methods[0].mosd_rows[r].c_str());
-    for (std::size_t k = 1; k < methods.size(); ++k)
-      if (r < methods[k].mosd_rows.size())
-        std::printf("  %-5.5s %s\n", methods[k].name.c_str(), methods[k].mosd_rows[r].c_str() + methods[k].mosd_rows[r].find(':'));
-  }
+  for (std::size_t r = 0; r < methods[0].mosd_rows.size(); ++r)
+    for (const Method& m : methods)
+      if (r < m.mosd_rows.size()) std::printf("  %-10s %s\n", m.tag.c_str(), m.mosd_rows[r].c_str());
   std::printf("\nreal mug body radius error (mm):");
   for (const Method& m : methods) std::printf("  %s %.2f", m.name.c_str(), m.mug_radius_err_mm);
   std::printf("\nmissed by mereo:");
@@ -236,9 +249,10 @@ int main(int argc, char** argv) {
     return std::string(buf);
   };
   std::printf("{\"bench\": \"primitives\", \"quick\": %s, \"synthetic_frames\": %d, \"mosd_frames\": %zu, "
-              "\"mereo\": %s, \"cgal\": %s, \"pcl\": %s, \"speedup_vs_cgal\": %.2f, \"speedup_vs_pcl\": %.2f}\n",
+              "\"mereo_frame\": %s, \"cgal_frame\": %s, \"mereo_above_table\": %s, \"pcl_above_table\": %s, "
+              "\"speedup_vs_cgal\": %.2f, \"speedup_vs_pcl\": %.2f}\n",
               quick ? "true" : "false", n_syn, files.size(), figures(methods[0]).c_str(), figures(methods[1]).c_str(),
-              figures(methods[2]).c_str(), median(methods[1].ms) / median(methods[0].ms),
-              median(methods[2].ms) / median(methods[0].ms));
+              figures(methods[2]).c_str(), figures(methods[3]).c_str(), median(methods[1].ms) / median(methods[0].ms),
+              median(methods[3].ms) / median(methods[2].ms));
   return 0;
 }

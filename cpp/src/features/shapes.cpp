@@ -178,6 +178,18 @@ Segment unpack(const Segment& like, const Eigen::VectorXd& v) {
   return s;
 }
 
+/// At most kFitPoints of `points`, evenly strided (deterministic): a least-squares fit of a few
+/// parameters gains nothing from thousands of points but time.
+constexpr std::size_t kFitPoints = 600;
+const std::vector<Eigen::Vector3d>& subsample_into(const std::vector<Eigen::Vector3d>& points,
+                                                   std::vector<Eigen::Vector3d>& buffer) {
+  if (points.size() <= kFitPoints) return points;
+  buffer.clear();
+  const double stride = double(points.size()) / kFitPoints;
+  for (std::size_t k = 0; k < kFitPoints; ++k) buffer.push_back(points[std::size_t(k * stride)]);
+  return buffer;
+}
+
 /// Levenberg-Marquardt on the residuals f(x) (N of them), numerical Jacobian; x is updated.
 void levenberg_marquardt(Eigen::VectorXd& x, int N, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& f) {
   const int P = int(x.size());
@@ -243,10 +255,12 @@ Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& poin
     s.axis = n, s.d = -n.dot(c), s.point = c;
   } else {
     Eigen::VectorXd x = pack(s);
-    const int N = int(points.size());
+    std::vector<Eigen::Vector3d> buffer;
+    const auto& pts = subsample_into(points, buffer);
+    const int N = int(pts.size());
     levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
       const Segment t = unpack(s0, v);
-      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, points[i]);
+      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, pts[i]);
     });
     s = unpack(s0, x);
   }
@@ -278,10 +292,12 @@ Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<E
   Eigen::VectorXd x(5);
   x << std::atan2(radial.dot(e2), radial.dot(e1)), h, radial.norm(), t0.radius, t0.minor_radius;
   if (points.size() >= 5) {
-    const int N = int(points.size());
+    std::vector<Eigen::Vector3d> buffer;
+    const auto& pts = subsample_into(points, buffer);
+    const int N = int(pts.size());
     levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
       const Segment t = handle_torus(body, v);
-      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, points[i]);
+      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, pts[i]);
     });
   }
   Segment s = handle_torus(body, x);

@@ -54,6 +54,7 @@ struct GraphRunner {
     std::atomic<bool> failed{false};
     std::mutex error_mutex;
     std::optional<NodeError> error;
+    std::vector<double> node_ms;  // per node: its time on this frame (each written once)
   };
   using Msg = std::shared_ptr<FrameState>;
 
@@ -170,6 +171,7 @@ struct GraphRunner {
     auto s = std::make_shared<FrameState>();
     s->index = index;
     s->slots.resize(slot_names.size());
+    s->node_ms.assign(nodes.size(), -1.0);
     s->pending.reset(new std::atomic<int>[nodes.size()]);
     for (std::size_t k = 0; k < nodes.size(); ++k) s->pending[k] = std::max(1, nodes[k]->predecessors);
     s->sinks_pending = int(sinks.size());
@@ -209,6 +211,7 @@ struct GraphRunner {
     }
     const auto end = Clock::now();
     const double ms = std::chrono::duration<double, std::milli>(end - start).count();
+    s.node_ms[k] = ms;
     {
       std::lock_guard<std::mutex> lock(n.timing_mutex);
       n.times_ms.push_back(ms);
@@ -228,6 +231,8 @@ struct GraphRunner {
     for (int slot : keep_slots)
       if (!s.slots[slot].empty()) r.outputs.emplace(slot_names[slot], s.slots[slot]);
     r.error = s.error;
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      if (s.node_ms[k] >= 0 && !nodes[k]->spec->is_source) r.timings_ms.emplace(nodes[k]->inst->name, s.node_ms[k]);
     return r;
   }
 

@@ -155,7 +155,7 @@ const std::vector<std::string>& predicate_params(const std::string& name) {
 const std::vector<std::string>& attribute_names() {
   static const std::vector<std::string> names = {"radius", "height",   "minor_radius", "aspect",
                                                  "tilt_deg", "elevation", "inliers",     "residual",
-                                                 "hue",    "d"};
+                                                 "hue",    "d",         "inward"};
   return names;
 }
 bool is_attribute(const std::string& name) {
@@ -177,6 +177,7 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
   if (name == "residual") return s.residual;
   if (name == "hue") return s.hue;
   if (name == "d") return s.d;
+  if (name == "inward") return s.inward ? 1.0 : 0.0;
   throw std::invalid_argument("unknown attribute '" + name + "'");
 }
 

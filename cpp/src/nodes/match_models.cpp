@@ -6,10 +6,12 @@
 //   edges:
 //     - primitives.segments -> objects.segments
 //     - source.frame -> objects.frame      # optional: its pose gives "up"
+//     - table.plane -> objects.plane       # optional: the table's normal is "up"
 #include <sstream>
 
 #include "mereo/core/error.hpp"
 #include "mereo/core/frame.hpp"
+#include "mereo/extension/support_plane.hpp"
 #include "mereo/knowledge/model_file.hpp"
 #include "mereo/matching/match.hpp"
 #include "nodes/registry.hpp"
@@ -22,7 +24,8 @@ graph::NodeSpec match_models_node() {
   s.kind = "match_models";
   s.doc = "Object hypotheses: concepts matched to the segments by branch and bound, with exclusion arcs.";
   s.inputs = {{"segments", "Segments", "the frame's segments (camera frame)"},
-              {"frame", "Frame", "the frame; with a pose, 'up' comes from it (else the camera's -y)", false}};
+              {"frame", "Frame", "the frame; with a pose, 'up' comes from it (else the camera's -y)", false},
+              {"plane", "SupportPlane", "the support plane; its normal is 'up' (before the frame's pose)", false}};
   s.outputs = {{"lattice", "Lattice", "hypotheses (best first per concept) and exclusion arcs"}};
   s.options = {
       {"models", OptionType::String, std::string("mug,cup,jar,can,bottle,plate,bowl"), 0, 0, {},
@@ -51,6 +54,10 @@ graph::NodeSpec match_models_node() {
       if (ctx.has_input("frame")) {
         const Frame& f = ctx.input<Frame>("frame");
         if (f.pose) m.context.up = f.pose->linear().transpose() * Eigen::Vector3d::UnitZ();
+      }
+      if (ctx.has_input("plane")) {
+        const auto& p = ctx.input<extension::SupportPlane>("plane");
+        if (p.inlier_count > 0) m.context.up = p.normal;
       }
       ctx.output("lattice", matching::recognize(*kb, names, ctx.input<std::vector<Segment>>("segments"), m));
     });

@@ -11,6 +11,7 @@ std::vector<graph::NodeSpec> builtin_node_specs() {
       support_plane_node(),
       detect_primitives_node(),
       match_models_node(),
+      report_node(),
       // diagnostics: engine tests and benchmarks
       identity_node(),
       checksum_node(),

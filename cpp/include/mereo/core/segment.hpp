@@ -38,6 +38,9 @@ struct Segment {
   double residual = 0.0;            ///< RMS point-to-surface distance of the inliers, metres
   Eigen::Vector3f mean_color = Eigen::Vector3f::Zero();  ///< RGB in [0, 1]
   double hue = 0.0;                 ///< degrees [0, 360) of mean_color
+  /// Cylinder, sphere, torus: seen from inside (its pixels' normals point towards the axis or
+  /// centre: a mug's inner wall, a bowl's inside), not from outside.
+  bool inward = false;
   std::vector<int> pixels;          ///< inlier pixel indices v * width + u
 };
 

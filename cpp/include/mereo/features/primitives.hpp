@@ -66,6 +66,10 @@ struct DetectOptions {
   /// After the bottom-up pass, look for a torus (handle) next to every cylinder found
   /// (find_primitive with a ball around the cylinder); only when Torus is in `classes`.
   bool handles_near_cylinders = true;
+  /// ... next to the cylinders whose radius lies in this range only (the bodies that could
+  /// have a handle; a goal such as "mug" narrows it to its body's range).
+  double handle_body_min_radius = 0.02;
+  double handle_body_max_radius = 0.08;
   /// Optional region of interest: pixels with a non-zero value are used (same size as the
   /// cloud); empty = all pixels.
   Image<std::uint8_t, 1> roi;

@@ -123,6 +123,7 @@ struct FrameResult {
   std::string frame_id;
   std::map<std::string, Value> outputs;  ///< "node.port" -> value
   std::optional<NodeError> error;        ///< set when a node failed (Skip policy)
+  std::map<std::string, double> timings_ms;  ///< node name -> its time on this frame
   bool ok() const { return !error; }
 };
 

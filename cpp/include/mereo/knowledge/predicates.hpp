@@ -43,7 +43,7 @@ const std::vector<std::string>& predicate_params(const std::string& name);
 
 /// Attribute names: radius, height, minor_radius, aspect (height / diameter), tilt_deg (angle
 /// between the axis and `up`), elevation (centre height along up, metres), inliers, residual,
-/// hue (degrees), d (plane offset).
+/// hue (degrees), d (plane offset), inward (1 for a surface seen from inside: a mug's inner wall).
 const std::vector<std::string>& attribute_names();
 bool is_attribute(const std::string& name);
 double attribute_value(const Segment& s, const std::string& name, const Context& context);

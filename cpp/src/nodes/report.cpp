@@ -1,0 +1,53 @@
+// report: the judgement step (matching::interpret) and the frame's result as one JSON line, the
+// output of `mereo recognize` (DESIGN.md's contract; the runner adds "timing_ms").
+//
+//   nodes:
+//     - {name: result, kind: report, options: {min_score: 0.5}}
+//   edges:
+//     - source.frame -> result.frame
+//     - primitives.segments -> result.segments
+//     - objects.lattice -> result.lattice
+//     - table.plane -> result.plane           # optional: reported as "support_plane"
+#include "mereo/core/frame.hpp"
+#include "mereo/extension/support_plane.hpp"
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/matching/interpret.hpp"
+#include "nodes/registry.hpp"
+
+namespace mereo::nodes {
+
+graph::NodeSpec report_node() {
+  using graph::OptionType;
+  const matching::InterpretOptions def;
+  graph::NodeSpec s;
+  s.kind = "report";
+  s.doc = "The accepted objects (one per set of segments, most explaining first) and the frame's JSON result.";
+  s.inputs = {{"frame", "Frame", "the frame (its id and source)"},
+              {"segments", "Segments", "the frame's segments"},
+              {"lattice", "Lattice", "the hypotheses of match_models"},
+              {"plane", "SupportPlane", "the support plane, reported when given", false}};
+  s.outputs = {{"result", "Text", "the frame's result, one JSON object"}};
+  s.options = {
+      {"file", OptionType::String, std::string(""), 0, 0, {}, "the model file of match_models (empty: the shipped models)"},
+      {"min_score", OptionType::Double, def.min_score, 0, 1, {}, "hypotheses below this score are not accepted"},
+      {"min_posterior", OptionType::Double, def.min_posterior, 0, 1, {}, "nor below this posterior"},
+      {"list_score", OptionType::Double, def.list_score, 0, 1, {}, "alternatives at or above this are listed"},
+  };
+  s.make = [](const graph::Options& o) {
+    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(o.get_string("file")));
+    matching::InterpretOptions io;
+    io.min_score = o.get_double("min_score");
+    io.min_posterior = o.get_double("min_posterior");
+    io.list_score = o.get_double("list_score");
+    return graph::NodeBody([kb, io](graph::NodeContext& ctx) {
+      const auto& segments = ctx.input<std::vector<Segment>>("segments");
+      const auto objects = matching::interpret(*kb, ctx.input<matching::Lattice>("lattice"), io);
+      const extension::SupportPlane* plane =
+          ctx.has_input("plane") ? &ctx.input<extension::SupportPlane>("plane") : nullptr;
+      ctx.output("result", matching::result_json(ctx.input<Frame>("frame"), segments, objects, plane));
+    });
+  };
+  return s;
+}
+
+}  // namespace mereo::nodes

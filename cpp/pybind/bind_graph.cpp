@@ -321,6 +321,9 @@ void bind_graph(py::module_& m) {
              g.set_overflow(overflow_from_string(policy), capacity);
            },
            py::arg("policy"), py::arg("capacity") = 2)
+      .def("set_options",
+           [](Graph& g, const std::string& name, py::kwargs kw) { g.set_options(name, options_from_kwargs(kw)); },
+           py::arg("name"), "Changes options of a node: g.set_options('objects', models='mug').")
       .def("verify", &Graph::verify, "Checks ports, types, required inputs, options and cycles.")
       .def("to_yaml", &Graph::to_yaml)
       .def("save", [](const Graph& g, py::object path) { g.save(py::str(path)); }, py::arg("path"))

@@ -109,4 +109,13 @@ void bind_io(py::module_& m) {
           return to_numpy(io::hstack(list, gap));
         },
         py::arg("images"), py::arg("gap") = 4, "RGB images side by side.");
+  m.def("draw_objects",
+        [](py::handle rgb, const mereo::Intrinsics& K,
+           const std::vector<std::pair<std::string, std::vector<mereo::Segment>>>& objects) {
+          std::vector<io::DrawnObject> list;
+          for (const auto& [label, parts] : objects) list.push_back({label, parts});
+          return to_numpy(io::draw_objects(from_numpy<std::uint8_t, 3>(rgb, "image"), K, list));
+        },
+        py::arg("image"), py::arg("intrinsics"), py::arg("objects"),
+        "The image with each (label, [Segment, ...]) drawn: projected part outlines and the label.");
 }

@@ -3,6 +3,10 @@
   mereo demo [--seed N] [--out DIR]           render the default scene, show what is in it
   mereo render synthetic:SEED [--frames N] --out DIR   frames plus ground truth
   mereo info INPUT...                          what the inputs hold (size, depth range, camera)
+  mereo recognize INPUT... [--models NAME_OR_FILE...] [--goal NAME] [--out FILE.jsonl]
+                  [--overlay DIR] [--graph FILE] [--intrinsics ...] [--depth-scale S]
+                                               recognized objects, one JSON line per frame
+  mereo evaluate RESULTS.jsonl GROUND_TRUTH...  precision, recall and errors per model
 
 Bad input prints one line (`mereo: error: ...`) and exits with status 2.
 """
@@ -141,6 +145,93 @@ def cmd_info(args) -> int:
     return 0
 
 
+def _models_arg(values):
+    """--models: concept names and/or YAML model files (the files' concepts join the shipped ones)."""
+    names, files = [], []
+    for v in values or []:
+        for item in str(v).split(","):
+            item = item.strip()
+            if not item:
+                continue
+            if item.endswith((".yaml", ".yml")) or Path(item).is_file():
+                if not Path(item).is_file():
+                    raise FileNotFoundError(f"{item}: model file not found")
+                files.append(item)
+            else:
+                names.append(item)
+    if len(files) > 1:
+        raise _mereo.InputError("--models: give at most one model file")
+    return names, (files[0] if files else "")
+
+
+def cmd_recognize(args) -> int:
+    import time
+
+    from . import recognition
+
+    names, models_file = _models_arg(args.models)
+    if models_file and not names:
+        from .knowledge import load_models
+
+        before = set(load_models().names())
+        names = [n for n in load_models(models_file).names() if n not in before]
+    graph = recognition.tabletop_graph(names or None, goal=args.goal, models_file=models_file, graph=args.graph)
+    seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale, frames=args.frames)
+    out = open(args.out, "w") if args.out else sys.stdout
+    overlay = Path(args.overlay) if args.overlay else None
+    if overlay:
+        overlay.mkdir(parents=True, exist_ok=True)
+    counts: dict[str, int] = {}
+    frames = 0
+    bar = _progress(None, len(seq), "recognize") if len(seq) > 1 else None
+    t0 = time.perf_counter()
+
+    def on_result(r):
+        nonlocal frames
+        res = recognition._result(r)
+        out.write(json.dumps(res) + "\n")
+        for o in res["objects"]:
+            if o["accepted"]:
+                counts[o["model"]] = counts.get(o["model"], 0) + 1
+        if overlay is not None:
+            frame = r["outputs"]["source.frame"]
+            name = f"{frames:04d}_{frame.id}" if len(seq) > 1 else frame.id or "frame"
+            io.write_image(overlay / f"{name}_overlay.png", recognition.draw_result(frame, res))
+        frames += 1
+        if bar is not None:
+            bar.update(1)
+
+    keep = ["result.result"] + (["source.frame"] if overlay else [])
+    graph.run(seq, mode=args.mode, keep=keep, on_result=on_result)
+    if bar is not None:
+        bar.close()
+    if args.out:
+        out.close()
+    wall = time.perf_counter() - t0
+    found = ", ".join(f"{n} {k}" for n, k in sorted(counts.items())) or "nothing"
+    print(f"mereo recognize: {frames} frame(s) in {wall:.2f} s ({frames / wall:.1f} frames/s): {found}"
+          + (f"; results in {args.out}" if args.out else "") + (f"; overlays in {overlay}" if overlay else ""),
+          file=sys.stderr)
+    return 0
+
+
+def cmd_evaluate(args) -> int:
+    from . import evaluate as ev
+
+    try:
+        results = ev.load_results(args.results)
+        truths = ev.load_truths(args.truth)
+        e = ev.evaluate(results, truths)
+    except ValueError as err:
+        raise _mereo.InputError(str(err)) from None
+    print(ev.format_table(e))
+    if args.mistakes:
+        print("\n".join(e.mistakes))
+    if args.json:
+        Path(args.json).write_text(json.dumps(e.summary(), indent=1))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="mereo", description="Recognize objects in RGB-D images by their parts.")
     p.add_argument("--version", action="version", version=f"mereo {_mereo.__version__}")
@@ -170,6 +261,26 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--depth-scale", type=float, default=0.0, help="depth units per metre")
     i.add_argument("--preview", metavar="DIR", help="write a colour | depth picture per frame")
     i.set_defaults(run=cmd_info)
+
+    g = sub.add_parser("recognize", help="recognize objects: one JSON line per frame (DESIGN.md's contract)")
+    g.add_argument("inputs", nargs="+", help=".pcd files, PNG-pair folders, TUM folders, synthetic:SEED")
+    g.add_argument("--graph", help="a pipeline file (default: the shipped graphs/tabletop.yaml)")
+    g.add_argument("--models", nargs="+", metavar="NAME_OR_FILE", help="concepts to look for, or a YAML model file")
+    g.add_argument("--goal", help="one concept to look for; it drives the top-down search (e.g. mug)")
+    g.add_argument("--intrinsics", help="fx,fy,cx,cy or a JSON file")
+    g.add_argument("--depth-scale", type=float, default=0.0, help="depth units per metre")
+    g.add_argument("--frames", type=int, default=1, help="frames of a synthetic:SEED orbit")
+    g.add_argument("--out", help="write the JSON lines here (default: standard output)")
+    g.add_argument("--overlay", metavar="DIR", help="write each frame with the recognized objects drawn")
+    g.add_argument("--mode", choices=["parallel", "deterministic"], default="parallel")
+    g.set_defaults(run=cmd_recognize)
+
+    e = sub.add_parser("evaluate", help="precision, recall and errors against the renderer's ground truth")
+    e.add_argument("results", help="a JSON Lines file of mereo recognize")
+    e.add_argument("truth", nargs="+", help="NNNN_truth.json files, folders of them, or synthetic:SEED[:FRAMES]")
+    e.add_argument("--mistakes", action="store_true", help="also list every false and missed object")
+    e.add_argument("--json", help="write the figures as JSON here")
+    e.set_defaults(run=cmd_evaluate)
     return p
 
 
@@ -177,7 +288,8 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.run(args)
-    except (_mereo.InputError, FileNotFoundError, NotADirectoryError, PermissionError) as e:
+    except (_mereo.InputError, _mereo.GraphError, _mereo.NodeError, FileNotFoundError, NotADirectoryError,
+            PermissionError) as e:
         print(f"mereo: error: {e}", file=sys.stderr)
         return 2
 

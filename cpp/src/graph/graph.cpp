@@ -155,6 +155,18 @@ const NodeInstance& Graph::add(const std::string& kind, std::string name,
   return nodes_.back();
 }
 
+void Graph::set_options(const std::string& name, const std::map<std::string, OptionValue>& options) {
+  for (auto& n : nodes_) {
+    if (n.name != name) continue;
+    auto given = n.given;
+    for (const auto& [k, v] : options) given[k] = v;
+    n.options = n.spec().validate(name, given);
+    n.given = std::move(given);
+    return;
+  }
+  throw GraphError("no node named '" + name + "'");
+}
+
 const NodeInstance& Graph::add_custom(NodeSpec spec, std::string name) {
   if (!valid_name(name)) throw GraphError("node name '" + name + "' must be letters, digits, _ or -");
   for (const auto& n : nodes_)

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+
+#include <Eigen/Geometry>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -91,6 +94,80 @@ ColorImage hstack(const std::vector<ColorImage>& images, int gap) {
     for (int v = 0; v < im.rows(); ++v)
       std::copy(im.ptr(v, 0), im.ptr(v, 0) + 3 * im.cols(), out.ptr(v, x));
     x += im.cols() + gap;
+  }
+  return out;
+}
+
+namespace {
+
+/// Pixel of a camera-frame point; nullopt behind the camera.
+std::optional<cv::Point> project(const Intrinsics& K, const Eigen::Vector3d& x) {
+  if (!(x.z() > 1e-3)) return std::nullopt;
+  return cv::Point(int(std::lround(K.fx * x.x() / x.z() + K.cx)), int(std::lround(K.fy * x.y() / x.z() + K.cy)));
+}
+
+/// A circle of `radius` about `centre` in the plane normal to `axis`, as an image polyline.
+std::vector<cv::Point> circle(const Intrinsics& K, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                              double radius, int samples = 64) {
+  const Eigen::Vector3d e1 = axis.normalized().unitOrthogonal(), e2 = axis.normalized().cross(e1);
+  std::vector<cv::Point> out;
+  for (int k = 0; k < samples; ++k) {
+    const double a = 2 * M_PI * k / samples;
+    if (auto p = project(K, centre + radius * (std::cos(a) * e1 + std::sin(a) * e2))) out.push_back(*p);
+  }
+  return out;
+}
+
+}  // namespace
+
+ColorImage draw_objects(const ColorImage& color, const Intrinsics& K, const std::vector<DrawnObject>& objects) {
+  if (color.empty()) throw InputError("draw_objects: the colour image is empty");
+  if (!K.valid()) throw InputError("draw_objects: invalid intrinsics " + K.to_string());
+  ColorImage out = color;
+  cv::Mat img(out.rows(), out.cols(), CV_8UC3, out.data());
+  static const cv::Scalar palette[] = {{255, 64, 64}, {64, 200, 64}, {64, 128, 255}, {255, 200, 0},
+                                       {255, 0, 255}, {0, 220, 220}, {255, 128, 0}, {160, 96, 255}};
+  const int thick = std::max(1, out.cols() / 320);
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const cv::Scalar c = palette[k % 8];
+    std::optional<cv::Point> anchor;
+    for (const Segment& s : objects[k].parts) {
+      const Eigen::Vector3d a = s.axis.normalized();
+      std::vector<std::vector<cv::Point>> lines;
+      if (s.cls == PrimitiveClass::Cylinder) {
+        const Eigen::Vector3d top = s.point + 0.5 * s.height * a, bottom = s.point - 0.5 * s.height * a;
+        lines.push_back(circle(K, top, a, s.radius));
+        lines.push_back(circle(K, bottom, a, s.radius));
+        // silhouette: where the wall's normal is perpendicular to the ray to the axis
+        const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+        const double phi = std::atan2(-e1.dot(s.point), e2.dot(s.point));
+        for (double f : {phi, phi + M_PI}) {
+          const Eigen::Vector3d r = s.radius * (std::cos(f) * e1 + std::sin(f) * e2);
+          const auto p = project(K, top + r), q = project(K, bottom + r);
+          if (p && q) lines.push_back({*p, *q});
+        }
+        const Eigen::Vector3d up = a.dot(-Eigen::Vector3d::UnitY()) >= 0 ? top : bottom;
+        if (auto p = project(K, up - s.radius * Eigen::Vector3d::UnitY()); p && !anchor) anchor = p;
+      } else if (s.cls == PrimitiveClass::Torus) {
+        lines.push_back(circle(K, s.point, a, s.radius));
+        lines.push_back(circle(K, s.point, a, s.radius + s.minor_radius));
+      } else if (s.cls == PrimitiveClass::Sphere) {
+        lines.push_back(circle(K, s.point, s.point, s.radius));  // the outline facing the camera
+        if (auto p = project(K, s.point - s.radius * Eigen::Vector3d::UnitY()); p && !anchor) anchor = p;
+      }
+      for (const auto& l : lines)
+        if (l.size() >= 2) cv::polylines(img, l, l.size() > 2, c, thick, cv::LINE_AA);
+    }
+    if (anchor && !objects[k].label.empty()) {
+      const double scale = 0.5;
+      int base = 0;
+      const cv::Size t = cv::getTextSize(objects[k].label, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &base);
+      const cv::Point at(std::clamp(anchor->x - t.width / 2, 0, std::max(0, out.cols() - t.width)),
+                         std::clamp(anchor->y - 6, t.height + 2, out.rows() - 2));
+      cv::rectangle(img, at + cv::Point(-2, base), at + cv::Point(t.width + 2, -t.height - 2), cv::Scalar(0, 0, 0),
+                    cv::FILLED);
+      cv::putText(img, objects[k].label, at, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
+    }
   }
   return out;
 }

@@ -163,6 +163,9 @@ class Graph {
                const std::string& to_port, int line = 0);
   /// Sets the overflow policy and queue length of the live source's edges.
   void set_overflow(Overflow policy, std::size_t capacity = 2);
+  /// Changes options of node `name` (the others keep their values); checked like add()'s.
+  /// Throws GraphError naming the node and the option.
+  void set_options(const std::string& name, const std::map<std::string, OptionValue>& options);
 
   /// Checks kinds, ports, port types, required inputs, option values and cycles; throws
   /// GraphError naming the node and port (and the file and line for loaded graphs).

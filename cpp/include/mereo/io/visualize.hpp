@@ -4,7 +4,9 @@
 #include <string>
 #include <vector>
 
+#include "mereo/core/camera.hpp"
 #include "mereo/core/image.hpp"
+#include "mereo/core/segment.hpp"
 
 namespace mereo::io {
 
@@ -18,6 +20,19 @@ ColorImage colorize_normals(const NormalMap& normals);
 ColorImage colorize_labels(const LabelImage& labels);
 /// Images of the same height side by side (a gap of `gap` black pixels between them).
 ColorImage hstack(const std::vector<ColorImage>& images, int gap = 4);
+/// One object to draw: its label ("mug 0.91") and its parts (camera frame).
+struct DrawnObject {
+  std::string label;
+  std::vector<Segment> parts;
+};
+
+/// The colour image with each object drawn over it: the projected outlines of its parts
+/// (a cylinder's end circles and silhouette lines, a torus's ring and outer edge, a sphere's
+/// outline; planes are not drawn) in a colour per object, and its label above it. Parts behind
+/// the camera are skipped. Throws InputError on an empty image or invalid intrinsics.
+ColorImage draw_objects(const ColorImage& color, const Intrinsics& intrinsics,
+                        const std::vector<DrawnObject>& objects);
+
 /// Writes an RGB image as PNG (or any format OpenCV knows by the file's extension).
 void write_image(const std::string& path, const ColorImage& image);
 

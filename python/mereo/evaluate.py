@@ -1,0 +1,203 @@
+"""Evaluation of recognition results against the renderer's ground truth (`mereo evaluate`).
+
+A result object (accepted, with a cylindrical "body") is matched to the ground-truth object
+whose body axis passes within `max_offset` (2 cm) of the result body's centre, with a radius
+within `max_radius_error` (1 cm); the nearest such object wins. Then, per model:
+
+- precision: accepted results of that model matched to a true object of the same model;
+- recall: true objects of that model that are *eligible* (body with at least 500 visible
+  pixels; a mug's handle with at least 150) and recognized as that model;
+- errors of the matched bodies: position (result centre to true axis), radius, axis angle;
+- for jars and cans: the share not reported as mugs.
+
+Ground truth comes from `mereo render ... --out DIR` (DIR/NNNN_truth.json), a truth file, or
+`synthetic:SEED` (rendered again). Results and truths are paired in order.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["Evaluation", "evaluate", "load_results", "load_truths", "format_table"]
+
+MIN_BODY_PIXELS = 500
+MIN_HANDLE_PIXELS = 150
+
+
+def load_results(path) -> list[dict]:
+    """The frames of a JSON Lines file written by `mereo recognize`."""
+    out = []
+    with open(path) as f:
+        for n, line in enumerate(f, 1):
+            if line.strip():
+                try:
+                    out.append(json.loads(line))
+                except json.JSONDecodeError as e:
+                    raise ValueError(f"{path}:{n}: not a JSON object ({e.msg})") from None
+    return out
+
+
+def load_truths(specs) -> list[dict]:
+    """Ground truths from truth files, folders of NNNN_truth.json, or synthetic:SEED[:FRAMES]."""
+    from . import synthetic
+
+    out = []
+    for spec in specs:
+        spec = str(spec)
+        if spec.startswith("synthetic:"):
+            parts = spec.split(":")
+            seed, frames = int(parts[1]), int(parts[2]) if len(parts) > 2 else 1
+            scene = synthetic.generate_scene(seed)
+            for i in range(frames):
+                out.append(json.loads(synthetic.render_view(scene, i).truth_json()))
+            continue
+        p = Path(spec)
+        if p.is_dir():
+            files = sorted(p.glob("*_truth.json"))
+            if not files:
+                raise FileNotFoundError(f"{p}: no *_truth.json files")
+            out += [json.loads(f.read_text()) for f in files]
+        else:
+            out.append(json.loads(p.read_text()))
+    return out
+
+
+@dataclass
+class ModelStats:
+    results: int = 0           # accepted results of this model
+    correct: int = 0           # ... matched to a true object of this model
+    eligible: int = 0          # true objects of this model that count for recall
+    found: int = 0             # ... recognized as this model
+    position_mm: list = field(default_factory=list)
+    radius_mm: list = field(default_factory=list)
+    axis_deg: list = field(default_factory=list)
+
+    @property
+    def precision(self) -> float:
+        return self.correct / self.results if self.results else math.nan
+
+    @property
+    def recall(self) -> float:
+        return self.found / self.eligible if self.eligible else math.nan
+
+
+@dataclass
+class Evaluation:
+    frames: int = 0
+    models: dict = field(default_factory=dict)   # model -> ModelStats
+    jars_cans: int = 0                           # true jars and cans (eligible)
+    jars_cans_as_mugs: int = 0
+    mistakes: list = field(default_factory=list)  # "frame: what"
+
+    @property
+    def jars_cans_not_mugs(self) -> float:
+        return 1 - self.jars_cans_as_mugs / self.jars_cans if self.jars_cans else math.nan
+
+    def summary(self) -> dict:
+        out = {"frames": self.frames, "jars_cans": self.jars_cans,
+               "jars_cans_not_mugs": self.jars_cans_not_mugs, "models": {}}
+        for name, s in sorted(self.models.items()):
+            out["models"][name] = {
+                "results": s.results, "precision": s.precision, "eligible": s.eligible, "recall": s.recall,
+                "median_position_mm": float(np.median(s.position_mm)) if s.position_mm else math.nan,
+                "median_radius_mm": float(np.median(s.radius_mm)) if s.radius_mm else math.nan,
+                "median_axis_deg": float(np.median(s.axis_deg)) if s.axis_deg else math.nan,
+            }
+        return out
+
+
+def _body(parts: list[dict]):
+    for p in parts:
+        if p["role"] == "body" and p["class"] == "cylinder":
+            return p
+    return None
+
+
+def _match(result_body: dict, truths: list[dict], max_offset: float, max_radius_error: float):
+    """The true object whose body axis passes nearest the result's body centre, within limits."""
+    c = np.asarray(result_body["point"])
+    best, best_d = None, max_offset
+    for t in truths:
+        b = _body(t["parts"])
+        if b is None:
+            continue
+        cam = b["camera"]
+        p, a = np.asarray(cam["point"]), np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
+        q = c - p
+        d = np.linalg.norm(q - a * q.dot(a))
+        if d <= best_d and abs(result_body["radius"] - cam["radius"]) <= max_radius_error and abs(q.dot(a)) <= cam["height"]:
+            best, best_d = t, d
+    return best, best_d
+
+
+def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
+             max_radius_error: float = 0.01) -> Evaluation:
+    if len(results) != len(truths):
+        raise ValueError(f"{len(results)} result frames but {len(truths)} ground truths: they are paired in order")
+    ev = Evaluation(frames=len(results))
+    for res, truth in zip(results, truths):
+        tag = f'{truth.get("source", "")}#{truth.get("frame", "")}'
+        objects = [o for o in truth["objects"] if o["model"] not in ("floor", "wall", "table")]
+        claimed: dict[int, str] = {}  # true object id -> model claimed
+        for o in res["objects"]:
+            if not o.get("accepted", True):
+                continue
+            s = ev.models.setdefault(o["model"], ModelStats())
+            s.results += 1
+            body = o["parts"].get("body")
+            t = None
+            if body is not None and body["class"] == "cylinder":
+                t, d = _match(body, objects, max_offset, max_radius_error)
+            if t is None:
+                ev.mistakes.append(f"{tag}: {o['model']} {o['score']:.2f} matches no object")
+                continue
+            claimed[t["id"]] = o["model"]
+            if t["model"] != o["model"]:
+                ev.mistakes.append(f"{tag}: the {t['model']} {t['id']} taken for a {o['model']} ({o['score']:.2f})")
+                continue
+            s.correct += 1
+            cam = _body(t["parts"])["camera"]
+            a = np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
+            s.position_mm.append(1000 * d)
+            s.radius_mm.append(1000 * abs(body["radius"] - cam["radius"]))
+            cosang = abs(float(np.dot(a, np.asarray(body["axis"]) / np.linalg.norm(body["axis"]))))
+            s.axis_deg.append(math.degrees(math.acos(min(1.0, cosang))))
+        for t in objects:
+            b = _body(t["parts"])
+            if b is None or b["visible_pixels"] < MIN_BODY_PIXELS:
+                continue
+            if t["model"] == "mug":
+                h = [p for p in t["parts"] if p["role"] == "handle"]
+                if not h or h[0]["visible_pixels"] < MIN_HANDLE_PIXELS:
+                    continue
+            s = ev.models.setdefault(t["model"], ModelStats())
+            s.eligible += 1
+            if claimed.get(t["id"]) == t["model"]:
+                s.found += 1
+            else:
+                ev.mistakes.append(f"{tag}: the {t['model']} {t['id']} is missed"
+                                   + (f" (taken for a {claimed[t['id']]})" if t["id"] in claimed else ""))
+            if t["model"] in ("jar", "can"):
+                ev.jars_cans += 1
+                ev.jars_cans_as_mugs += claimed.get(t["id"]) == "mug"
+    return ev
+
+
+def format_table(ev: Evaluation) -> str:
+    def f(v, fmt):
+        return "-" if isinstance(v, float) and math.isnan(v) else format(v, fmt)
+
+    lines = [f"{ev.frames} frames",
+             f"{'model':<10} {'results':>8} {'precision':>10} {'eligible':>9} {'recall':>8} "
+             f"{'pos mm':>8} {'radius mm':>10} {'axis deg':>9}"]
+    for name, s in sorted(ev.summary()["models"].items()):
+        lines.append(f"{name:<10} {s['results']:>8} {f(s['precision'], '.3f'):>10} {s['eligible']:>9} "
+                     f"{f(s['recall'], '.3f'):>8} {f(s['median_position_mm'], '.1f'):>8} "
+                     f"{f(s['median_radius_mm'], '.2f'):>10} {f(s['median_axis_deg'], '.2f'):>9}")
+    lines.append(f"jars and cans not reported as mugs: {ev.jars_cans - ev.jars_cans_as_mugs}/{ev.jars_cans} "
+                 f"({f(ev.jars_cans_not_mugs, '.3f')})")
+    return "\n".join(lines)

@@ -1,0 +1,139 @@
+"""Recognition: the tabletop pipeline (``graphs/tabletop.yaml``) from Python.
+
+    import mereo
+    result = mereo.recognize(mereo.io.read("synthetic:7"), models=["mug"])
+    for obj in result["objects"]:
+        if obj["accepted"]:
+            print(obj["model"], obj["score"], obj["parts"]["body"]["radius"])
+
+``result`` is the dict of one line of ``mereo recognize``'s JSON Lines output (DESIGN.md). The
+numeric work is the graph's (C++); this module only builds the graph, runs it and reads its
+JSON result.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Iterable, Iterator, Sequence
+
+import numpy as np
+
+from . import _mereo
+from ._mereo import Graph
+from ._mereo.io import draw_objects
+from ._mereo.knowledge import Segment
+
+__all__ = [
+    "GRAPH_DIR",
+    "draw_result",
+    "goal_options",
+    "recognize",
+    "recognize_all",
+    "segment_from_dict",
+    "tabletop_graph",
+]
+
+#: The installed pipeline files (a copy of the repository's graphs/*.yaml).
+GRAPH_DIR = Path(__file__).parent / "graphs"
+_SOURCE_GRAPHS = Path(__file__).resolve().parents[2] / "graphs"
+
+
+def _graph_path(name: str) -> Path:
+    for d in (GRAPH_DIR, _SOURCE_GRAPHS):
+        if (d / name).is_file():
+            return d / name
+    raise FileNotFoundError(f"{name}: not found in {GRAPH_DIR}")
+
+
+def goal_options(goal: str | None, models_file: str = "") -> dict:
+    """Options of the detect_primitives node for a goal (the top-down rule): the primitive classes
+    the goal's parts need, and a handle search only next to cylinders that could be its body."""
+    if not goal:
+        return {}
+    from .knowledge import load_models
+
+    kb = load_models(models_file or None)
+    concept = kb.resolve(goal)
+    classes = sorted({p.cls for p in concept.parts})
+    opts = {"classes": ",".join(c for c in classes if c in ("plane", "cylinder", "sphere", "torus"))}
+    if "torus" not in classes:
+        opts["handles_near_cylinders"] = False
+    return opts
+
+
+def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | None = None,
+                   models_file: str = "", graph: str | Path | None = None) -> Graph:
+    """The tabletop pipeline (or the graph file `graph`), with the models to look for (names of
+    concepts; default all the file's) and an optional goal that restricts them and drives the
+    top-down search (``goal="mug"``: the models become ["mug"], primitives the mug's classes)."""
+    g = Graph.load(str(graph) if graph else str(_graph_path("tabletop.yaml")))
+    if isinstance(models, str):
+        models = [m.strip() for m in models.split(",") if m.strip()]
+    if goal:
+        models = [goal]
+        g.set_options("primitives", **goal_options(goal, models_file))
+    if models:
+        g.set_options("objects", models=",".join(models))
+    if models_file:
+        g.set_options("objects", file=str(models_file))
+        g.set_options("result", file=str(models_file))
+    g.verify()
+    return g
+
+
+def _result(r: dict) -> dict:
+    if r["error"]:
+        raise _mereo.InputError(r["error"])
+    out = json.loads(r["outputs"]["result.result"])
+    times = dict(r["timings_ms"])
+    times["total"] = sum(times.values())
+    out["timing_ms"] = times
+    return out
+
+
+def recognize_all(frames, *, graph: Graph | None = None, models: Sequence[str] | str | None = None,
+                  goal: str | None = None, mode: str = "parallel", on_result=None) -> Iterator[dict] | None:
+    """Runs the pipeline over frames (a list, a mereo.io.Sequence); returns the results in frame
+    order, or passes each to `on_result(result)` as it comes (then returns None)."""
+    g = graph or tabletop_graph(models, goal=goal)
+    if on_result is not None:
+        g.run(frames, mode=mode, keep=["result.result"], on_result=lambda r: on_result(_result(r)))
+        return None
+    return [_result(r) for r in g.run(frames, mode=mode, keep=["result.result"])]
+
+
+def recognize(frame, models: Sequence[str] | str | None = None, *, goal: str | None = None,
+              graph: Graph | None = None) -> dict:
+    """Recognizes the objects of one frame: the same dict as one line of `mereo recognize`."""
+    return recognize_all([frame], graph=graph, models=models, goal=goal, mode="deterministic")[0]
+
+
+def segment_from_dict(d: dict) -> Segment:
+    """A Segment from a part or primitive of a result (for drawing or for the matcher)."""
+    c = d["class"]
+    if c == "plane":
+        s = Segment(c, point=d.get("point", [0, 0, 0]), axis=d["normal"], d=d["d"])
+    elif c == "cylinder":
+        s = Segment(c, point=d["point"], axis=d["axis"], radius=d["radius"], height=d["height"])
+    elif c == "torus":
+        s = Segment(c, point=d["center"], axis=d["normal"], radius=d["major_radius"], minor_radius=d["minor_radius"])
+    elif c == "sphere":
+        s = Segment(c, point=d["center"], radius=d["radius"])
+    else:
+        s = Segment(c, point=d.get("point", [0, 0, 0]), axis=d.get("axis", [0, 0, 1]))
+    s.inliers = d.get("inliers", 0)
+    return s
+
+
+def draw_result(frame, result: dict, accepted_only: bool = True) -> np.ndarray:
+    """The frame's colour image with the recognized objects drawn (part outlines, model, score)."""
+    objects = []
+    for o in result["objects"]:
+        if accepted_only and not o["accepted"]:
+            continue
+        label = f'{o["model"]} {o["score"]:.2f}'
+        objects.append((label, [segment_from_dict(p) for p in o["parts"].values()]))
+    color = frame.color
+    if color.size == 0:
+        color = np.zeros(frame.depth.shape + (3,), np.uint8)
+    return draw_objects(color, frame.intrinsics, objects)

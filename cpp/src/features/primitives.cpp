@@ -80,13 +80,14 @@ struct Pixels {
     const double c = sn.dot(n(i));
     return std::abs(d) <= eps(x.z()) && (sign == 0 ? std::abs(c) : sign * c) >= cos_dev;
   }
-  /// Pixel i is within eps(z) of s and its normal is on the outer side of the surface (within
-  /// 90 degrees): the test for thin parts whose normals are too noisy for fits().
+  /// Pixel i is within eps(z) of s and its normal is not turned away from the surface (within
+  /// 120 degrees of its outward normal): the test for thin parts whose normals are too noisy for
+  /// fits(), and whose fitted tube may sit a little in front of or behind the points.
   bool near_facing(const Segment& s, int i) const {
     const Eigen::Vector3d x = p(i);
     Eigen::Vector3d sn;
     const double d = signed_distance(s, x, &sn);
-    return std::abs(d) <= eps(x.z()) && sn.dot(n(i)) > 0;
+    return std::abs(d) <= eps(x.z()) && sn.dot(n(i)) > -0.5;
   }
   /// The 4-connected component of free pixels that fit s, from `seed`, on a grid of `step`
   /// pixels (seed snapped to it); `mask` (optional) restricts it. Capped at `cap` cells.
@@ -165,7 +166,7 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
   const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
   struct Near {
     int i;
-    double theta;
+    double theta, rho;
   };
   std::vector<Near> pts;
   for (int i : region) {
@@ -176,7 +177,7 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
     const double rho = radial.norm();
     if (rho <= body.radius + 0.5 * f.eps(f.p(i).z()) || rho > body.radius + 0.07) continue;
     if (std::abs(h) > 0.5 * body.height - 0.003) continue;  // a handle stays off the table
-    pts.push_back({i, std::atan2(radial.dot(e2), radial.dot(e1))});
+    pts.push_back({i, std::atan2(radial.dot(e2), radial.dot(e1)), rho});
   }
   std::vector<Candidate> out;
   if (int(pts.size()) < min_support) return out;
@@ -206,7 +207,9 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
     double sc = 0, ss = 0;
     for (const auto& q : pts) {
       const double d = std::remainder(q.theta - theta0, 2 * M_PI);
-      if (std::abs(d) > 15.0 * kDeg) continue;
+      // the fit starts from the part of the handle that stands off the wall (a finger's width):
+      // next to the wall, the wall's own noisy pixels would pull it
+      if (std::abs(d) > 15.0 * kDeg || q.rho < body.radius + std::max(0.008, f.eps(f.p(q.i).z()))) continue;
       sel.push_back(f.p(q.i));
       sel_i.push_back(q.i);
       sc += std::cos(q.theta), ss += std::sin(q.theta);
@@ -227,13 +230,20 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
       t.minor_radius = r0;
       t.radius = std::max(0.012, 0.5 * (hmax - hmin) - r0);
       t.point = body.point + a * (0.5 * (hmin + hmax)) + u * std::max(body.radius, rmax - r0 - t.radius);
-      t = detail::refit_handle(body, t, sel);
+      // the ring first, with the tube radius held (trimmed twice), then everything if the
+      // tube radius stays within the handle's range
+      t = detail::refit_handle(body, t, sel, true);
+      std::vector<Eigen::Vector3d> kept;
       for (int round = 0; round < 2; ++round) {
-        std::vector<Eigen::Vector3d> kept;
+        kept.clear();
         for (const auto& x : sel)
           if (std::abs(signed_distance(t, x)) <= 2 * f.eps(x.z())) kept.push_back(x);
         if (int(kept.size()) < min_support) break;
-        t = detail::refit_handle(body, t, kept);
+        t = detail::refit_handle(body, t, kept, true);
+      }
+      if (int(kept.size()) >= min_support) {
+        const Segment free_fit = detail::refit_handle(body, t, kept);
+        if (plausible(free_fit, f.o, f.o.max_major_radius, 0.0)) t = free_fit;
       }
       if (!plausible(t, f.o, f.o.max_major_radius, 0.0)) continue;
       int seed = -1, score = 0;
@@ -241,7 +251,7 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
       for (std::size_t k = 0; k < sel.size(); ++k) {
         const double d = std::abs(signed_distance(t, sel[k]));
         if (d <= f.eps(sel[k].z())) ++score;
-        if (d < best_d && f.fits(t, sel_i[k], 1)) best_d = d, seed = sel_i[k];
+        if (d < best_d && f.near_facing(t, sel_i[k])) best_d = d, seed = sel_i[k];
       }
       if (seed >= 0 && score >= min_support) out.push_back({t, seed, double(score)});
     }
@@ -329,6 +339,7 @@ void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImag
     s.inward = 2 * in > int(pix.size());
   }
   if (s.cls == PrimitiveClass::Plane && s.axis.dot(s.point) > 0) s.axis = -s.axis, s.d = -s.d;  // towards the camera
+  std::sort(pix.begin(), pix.end());  // (kept sorted: overlaps are binary searches)
   s.inliers = pix.size();
   s.pixels = std::move(pix);
   if (color && !color->empty() && s.inliers > 0) {
@@ -425,8 +436,8 @@ std::vector<Segment> search(Pixels& f, const std::vector<PrimitiveClass>& classe
 
 /// The pixels of a handle torus: of the usable pixels in `region`, those within epsilon of it
 /// whose normal faces out of the tube (near_facing: a tube of a few millimetres is about as thick
-/// as the normals' window, so its normals are too poor for the usual deviation), largest
-/// 8-connected group.
+/// as the normals' window, so its normals are too poor for the usual deviation), largest group
+/// connected across gaps of one pixel (noise leaves holes in a band a few pixels wide).
 std::vector<int> handle_pixels(const Pixels& f, const Segment& t, const std::vector<int>& region) {
   std::vector<int> fit;
   for (int i : region)
@@ -446,8 +457,8 @@ std::vector<int> handle_pixels(const Pixels& f, const Segment& t, const std::vec
       stack.pop_back();
       ++size;
       const int v = fit[m] / f.W, u = fit[m] % f.W;
-      for (int dv = -1; dv <= 1; ++dv)
-        for (int du = -1; du <= 1; ++du) {
+      for (int dv = -2; dv <= 2; ++dv)
+        for (int du = -2; du <= 2; ++du) {
           if ((!dv && !du) || v + dv < 0 || v + dv >= f.H || u + du < 0 || u + du >= f.W) continue;
           const auto it = where.find((v + dv) * f.W + u + du);
           if (it != where.end() && group[it->second] < 0) group[it->second] = groups, stack.push_back(it->second);
@@ -481,13 +492,15 @@ std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::v
     for (int round = 0; round < 2; ++round) {
       std::vector<Eigen::Vector3d> pts;
       for (int i : best_pix) pts.push_back(f.p(i));
-      best = detail::refit_handle(body, best, pts);
+      const Segment free_fit = detail::refit_handle(body, best, pts);
+      best = plausible(free_fit, f.o, f.o.max_major_radius, 0.0) ? free_fit : detail::refit_handle(body, best, pts, true);
       best_pix = handle_pixels(f, best, region);
     }
     if (int(best_pix.size()) < min_support || !plausible(best, f.o, f.o.max_major_radius, 0.0)) break;
     std::vector<Eigen::Vector3d> pts;
     for (int i : best_pix) pts.push_back(f.p(i));
-    best = detail::refit_handle(body, best, pts);  // residual of the final pixels
+    const Segment free_fit = detail::refit_handle(body, best, pts);  // residual of the final pixels
+    best = plausible(free_fit, f.o, f.o.max_major_radius, 0.0) ? free_fit : detail::refit_handle(body, best, pts, true);
     for (int i : best_pix) f.free[i] = 0;
     describe(f, best, std::move(best_pix), color);
     out.push_back(std::move(best));
@@ -569,6 +582,8 @@ std::vector<Segment> find_in(const Pixels& f, PrimitiveClass cls, const SearchRe
   if (handle) {
     local.normal_deviation_deg = std::max(o.normal_deviation_deg, 2 * o.normal_deviation_deg);
     if (region.min_minor_radius <= 0) local.min_minor_radius = 0.5 * o.min_minor_radius;
+    // and a handle is thin (mugs' are 3-10 mm): a fat torus next to a body is something else
+    if (region.max_minor_radius <= 0) local.max_minor_radius = std::min(o.max_minor_radius, 0.012);
   }
   Pixels g(f, local);
   if (handle) return search_handles(g, *region.attached_to, pixels, o.min_support_torus, max_count, color);
@@ -585,23 +600,51 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
   check(cloud, normals, o);
   Pixels f(cloud, normals, o);
   std::vector<PrimitiveClass> bottom_up;
+  // with the handle search on, tori are looked for top-down only (next to the bodies): a
+  // bottom-up torus through a few noisy pixels is seldom anything
+  const bool top_down_tori = o.handles_near_cylinders && wanted(o, PrimitiveClass::Torus);
   for (auto c : {PrimitiveClass::Plane, PrimitiveClass::Cylinder, PrimitiveClass::Sphere, PrimitiveClass::Torus})
-    if (wanted(o, c)) bottom_up.push_back(c);
+    if (wanted(o, c) && !(c == PrimitiveClass::Torus && top_down_tori)) bottom_up.push_back(c);
   auto out = search(f, bottom_up, nullptr, o.min_support, o.min_support_torus, o.min_radius, o.max_radius,
                     o.max_primitives, color);
-  if (o.handles_near_cylinders && wanted(o, PrimitiveClass::Torus)) {
+  if (top_down_tori) {
     // the top-down rule: a handle next to every cylinder that could be a body (the segments
     // found so far keep their pixels: they are taken in f)
+    // A wide handle's side is nearly a cylinder, and the bottom-up pass may have taken it as a
+    // small one: the pixels of small cylinders next to the body are offered to the handle
+    // search too, and a torus that takes most of such a cylinder replaces it.
     const std::size_t n = out.size();
+    std::vector<bool> dropped(n, false);
     for (std::size_t k = 0; k < n && int(out.size()) < o.max_primitives; ++k) {
-      if (out[k].cls != PrimitiveClass::Cylinder || out[k].radius < o.handle_body_min_radius ||
-          out[k].radius > o.handle_body_max_radius)
+      const Segment& body = out[k];
+      if (body.cls != PrimitiveClass::Cylinder || body.inward || body.radius < o.handle_body_min_radius ||
+          body.radius > o.handle_body_max_radius)
         continue;
-      for (auto& t : find_in(f, PrimitiveClass::Torus, region_near(out[k], 0.04), o, color, 1)) {
+      const SearchRegion region = region_near(body, 0.04);
+      std::vector<std::size_t> offered;
+      for (std::size_t j = 0; j < n; ++j)
+        if (j != k && !dropped[j] && out[j].cls == PrimitiveClass::Cylinder && !out[j].inward &&
+            out[j].radius < 0.5 * body.radius && (out[j].point - region.ball_center).norm() < region.ball_radius) {
+          offered.push_back(j);
+          for (int i : out[j].pixels) f.free[i] = 1;
+        }
+      auto found = find_in(f, PrimitiveClass::Torus, region, o, color, 1);
+      for (std::size_t j : offered) {
+        std::size_t shared = 0;
+        for (const auto& t : found)
+          for (int i : t.pixels) shared += std::binary_search(out[j].pixels.begin(), out[j].pixels.end(), i);
+        if (2 * shared > out[j].pixels.size()) dropped[j] = true;
+        for (int i : out[j].pixels) f.free[i] = 0;
+      }
+      for (auto& t : found) {
         for (int i : t.pixels) f.free[i] = 0;
         out.push_back(std::move(t));
       }
     }
+    std::vector<Segment> kept;
+    for (std::size_t j = 0; j < out.size(); ++j)
+      if (j >= n || !dropped[j]) kept.push_back(std::move(out[j]));
+    out = std::move(kept);
   }
   std::stable_sort(out.begin(), out.end(), [](const Segment& a, const Segment& b) { return a.inliers > b.inliers; });
   for (std::size_t i = 0; i < out.size(); ++i) out[i].id = int(i);

@@ -284,7 +284,8 @@ Segment handle_torus(const Segment& body, const Eigen::VectorXd& v) {
 }
 }  // namespace
 
-Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points) {
+Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
+                     bool fix_minor) {
   const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
   const Eigen::Vector3d q = t0.point - body.point;
   const double h = a.dot(q);
@@ -295,10 +296,22 @@ Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<E
     std::vector<Eigen::Vector3d> buffer;
     const auto& pts = subsample_into(points, buffer);
     const int N = int(pts.size());
-    levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
-      const Segment t = handle_torus(body, v);
-      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, pts[i]);
+    Eigen::VectorXd y = fix_minor ? Eigen::VectorXd(x.head<4>()) : x;
+    // A point is seen on the side of the tube that faces the camera: one that the fit would put
+    // on the far side costs up to a tube's diameter more (a thin tube can otherwise be fitted in
+    // front of the points as well as behind them).
+    levenberg_marquardt(y, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+      Eigen::VectorXd full = x;
+      full.head(v.size()) = v;
+      const Segment t = handle_torus(body, full);
+      for (int i = 0; i < N; ++i) {
+        Eigen::Vector3d sn;
+        const double d = signed_distance(t, pts[i], &sn);
+        const double away = -sn.dot(-pts[i].normalized());
+        r(i) = d + 2 * t.minor_radius * std::max(0.0, away);
+      }
     });
+    x.head(y.size()) = y;
   }
   Segment s = handle_torus(body, x);
   s.id = t0.id, s.pixels = t0.pixels, s.inliers = t0.inliers;

@@ -35,7 +35,10 @@ Segment refit_points(const Segment& s, const std::vector<Eigen::Vector3d>& point
 /// distance of the centre from the axis, ring radius, tube radius). Only the side of a thin tube
 /// that faces the camera is seen; a free fit can then trade a tilted ring plane for a fat tube,
 /// while with the plane held the tube radius is how far the points stand out of it.
-Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points);
+/// With `fix_minor`, the tube radius stays t0's (4 parameters): on a far, noisy handle only the
+/// ring is well determined.
+Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
+                     bool fix_minor = false);
 
 /// Cylinder: `point` moved to the middle of the points' extent along the axis and `height` set;
 /// plane: `point` = centroid. Others unchanged.

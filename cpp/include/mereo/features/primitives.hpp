@@ -64,7 +64,8 @@ struct DetectOptions {
   double max_minor_radius = 0.02;
   double max_major_radius = 0.08;    ///< torus ring radius upper bound, metres
   /// After the bottom-up pass, look for a torus (handle) next to every cylinder found
-  /// (find_primitive with a ball around the cylinder); only when Torus is in `classes`.
+  /// (find_primitive with a ball around the cylinder); only when Torus is in `classes`, and
+  /// then tori are looked for there only, not bottom-up.
   bool handles_near_cylinders = true;
   /// ... next to the cylinders whose radius lies in this range only (the bodies that could
   /// have a handle; a goal such as "mug" narrows it to its body's range).

@@ -58,6 +58,11 @@ def goal_options(goal: str | None, models_file: str = "") -> dict:
     opts = {"classes": ",".join(c for c in classes if c in ("plane", "cylinder", "sphere", "torus"))}
     if "torus" not in classes:
         opts["handles_near_cylinders"] = False
+    # the handle search only next to the cylinders that could be the goal's body
+    for a in concept.attributes:
+        if a.part == "body" and a.name == "radius":
+            opts["handle_body_min_radius"] = max(0.0, a.range.a)
+            opts["handle_body_max_radius"] = a.range.d
     return opts
 
 

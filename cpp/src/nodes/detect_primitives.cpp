@@ -39,6 +39,10 @@ graph::NodeSpec detect_primitives_node() {
       {"max_primitives", OptionType::Int, (long long)def.max_primitives, 1, 10000, {}, "at most this many segments"},
       {"handles_near_cylinders", OptionType::Bool, def.handles_near_cylinders, 0, 0, {},
        "look for a torus next to every cylinder"},
+      {"handle_body_min_radius", OptionType::Double, def.handle_body_min_radius, 0, 1, {},
+       "... whose radius is at least this, metres"},
+      {"handle_body_max_radius", OptionType::Double, def.handle_body_max_radius, 0, 1, {},
+       "... and at most this"},
   };
   s.make = [](const graph::Options& o) {
     features::DetectOptions d;
@@ -60,6 +64,8 @@ graph::NodeSpec detect_primitives_node() {
     d.min_support_torus = int(o.get_int("min_support_torus"));
     d.max_primitives = int(o.get_int("max_primitives"));
     d.handles_near_cylinders = o.get_bool("handles_near_cylinders");
+    d.handle_body_min_radius = o.get_double("handle_body_min_radius");
+    d.handle_body_max_radius = o.get_double("handle_body_max_radius");
     return graph::NodeBody([d](graph::NodeContext& ctx) {
       features::DetectOptions q = d;
       if (ctx.has_input("roi")) q.roi = ctx.input<extension::Mask>("roi");

@@ -1,0 +1,119 @@
+// The judgement step and the frame's result: a mug (body and handle) is accepted over a cup or a
+// jar on the same body, which become listed alternatives; a hypothesis sharing no segment is
+// accepted too; the JSON result follows the contract; the overlay draws the parts; and the
+// shipped tabletop graph recognizes the mugs of a rendered frame in both modes alike.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "mereo/core/error.hpp"
+#include "mereo/graph/graph.hpp"
+#include "mereo/io/visualize.hpp"
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/matching/interpret.hpp"
+#include "mereo/synthetic/scene.hpp"
+
+using namespace mereo;
+
+namespace {
+
+Segment cylinder(Eigen::Vector3d p, double r, double h) {
+  Segment s;
+  s.cls = PrimitiveClass::Cylinder;
+  s.point = p, s.axis = Eigen::Vector3d(0, -1, 0), s.radius = r, s.height = h, s.inliers = 1000;
+  return s;
+}
+
+matching::Hypothesis hyp(std::string name, std::vector<int> assignment, double score) {
+  matching::Hypothesis h;
+  h.concept_name = std::move(name), h.assignment = std::move(assignment), h.score = score, h.posterior = 0.9;
+  return h;
+}
+
+}  // namespace
+
+TEST(Interpret, MostExplainingHypothesisWinsAndAlternativesAreListed) {
+  const auto kb = knowledge::builtin_models();
+  matching::Lattice l;
+  l.hypotheses = {hyp("cup", {0}, 1.0), hyp("jar", {0}, 0.95), hyp("mug", {0, 1}, 0.9), hyp("jar", {2}, 0.8),
+                  hyp("can", {3}, 0.2)};
+  const auto out = matching::interpret(kb, l);
+  ASSERT_EQ(out.size(), 4u);  // the can at 0.2 is below list_score
+  EXPECT_EQ(out[0].model, "mug");
+  EXPECT_TRUE(out[0].accepted);
+  ASSERT_EQ(out[0].parts.size(), 2u);
+  EXPECT_EQ(out[0].parts[0], std::make_pair(std::string("body"), 0));
+  EXPECT_EQ(out[0].parts[1], std::make_pair(std::string("handle"), 1));
+  EXPECT_EQ(out[1].model, "jar");  // the other body's jar: accepted
+  EXPECT_TRUE(out[1].accepted);
+  for (std::size_t k = 2; k < out.size(); ++k) {
+    EXPECT_FALSE(out[k].accepted);
+    // they share the mug's body (and exclude each other)
+    EXPECT_EQ(out[k].excludes, (std::vector<int>{0, int(k == 2 ? 3 : 2)}));
+  }
+  // below the acceptance thresholds: listed, not accepted
+  matching::InterpretOptions strict;
+  strict.min_score = 0.99;
+  const auto few = matching::interpret(kb, l, strict);
+  EXPECT_EQ(few[0].model, "cup");
+  EXPECT_TRUE(few[0].accepted);
+  EXPECT_FALSE(few[1].accepted);
+}
+
+TEST(Interpret, ResultJsonFollowsTheContract) {
+  std::vector<Segment> segs = {cylinder({0.0, 0.0, 0.8}, 0.04, 0.1)};
+  Segment t;
+  t.cls = PrimitiveClass::Torus;
+  t.point = {0.06, 0.0, 0.8}, t.axis = {0, 0, 1}, t.radius = 0.025, t.minor_radius = 0.006, t.inliers = 300;
+  segs.push_back(t);
+  matching::RecognizedObject o;
+  o.model = "mug", o.score = 0.91, o.posterior = 0.97, o.accepted = true, o.parts = {{"body", 0}, {"handle", 1}};
+  Frame f;
+  f.id = "0003", f.source = "scene/\"odd\" name.png";
+  const auto j = nlohmann::json::parse(matching::result_json(f, segs, {o}, nullptr, {{"normals", 1.5}}));
+  EXPECT_EQ(j["frame"], "0003");
+  EXPECT_EQ(j["source"], "scene/\"odd\" name.png");
+  const auto& obj = j["objects"][0];
+  EXPECT_EQ(obj["model"], "mug");
+  EXPECT_DOUBLE_EQ(obj["score"].get<double>(), 0.91);
+  EXPECT_DOUBLE_EQ(obj["parts"]["body"]["radius"].get<double>(), 0.04);
+  EXPECT_DOUBLE_EQ(obj["parts"]["handle"]["major_radius"].get<double>(), 0.025);
+  EXPECT_EQ(obj["parts"]["handle"]["center"].size(), 3u);
+  EXPECT_EQ(j["primitives"].size(), 2u);
+  EXPECT_EQ(j["primitives"][1]["class"], "torus");
+  EXPECT_DOUBLE_EQ(j["timing_ms"]["normals"].get<double>(), 1.5);
+}
+
+TEST(Overlay, DrawsThePartsAndRejectsBadInput) {
+  ColorImage img(480, 640);
+  std::fill(img.data(), img.data() + img.size(), std::uint8_t(0));
+  io::DrawnObject mug{"mug 0.91", {cylinder({0.0, 0.0, 0.8}, 0.04, 0.1)}};
+  const auto out = io::draw_objects(img, Intrinsics{}, {mug});
+  std::size_t lit = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) lit += out.data()[i] > 0;
+  EXPECT_GT(lit, 300u);
+  EXPECT_THROW(io::draw_objects(ColorImage(), Intrinsics{}, {mug}), InputError);
+  Intrinsics bad;
+  bad.fx = 0;
+  EXPECT_THROW(io::draw_objects(img, bad, {mug}), InputError);
+}
+
+TEST(TabletopGraph, RecognizesTheMugsOfARenderedFrameInBothModes) {
+  graph::Graph g = graph::Graph::load(std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop.yaml");
+  const auto sf = synthetic::render(903);  // three mugs with their handles in view
+  std::vector<std::string> lines;
+  for (auto mode : {graph::Mode::Deterministic, graph::Mode::Parallel}) {
+    graph::RunOptions o;
+    o.mode = mode;
+    o.keep = {"result.result"};
+    const auto results = g.run_all(graph::FrameSource::recorded({sf.frame, sf.frame}), o);
+    ASSERT_EQ(results.size(), 2u);
+    lines.push_back(results[1].outputs.at("result.result").get<std::string>());
+    EXPECT_GT(results[1].timings_ms.at("primitives"), 0.0);
+  }
+  EXPECT_EQ(lines[0], lines[1]);
+  const auto j = nlohmann::json::parse(lines[0]);
+  int mugs = 0;
+  for (const auto& o : j["objects"]) mugs += o["accepted"].get<bool>() && o["model"] == "mug";
+  EXPECT_EQ(mugs, 3);
+}

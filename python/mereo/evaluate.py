@@ -1,12 +1,14 @@
 """Evaluation of recognition results against the renderer's ground truth (`mereo evaluate`).
 
-A result object (accepted, with a cylindrical "body") is matched to the ground-truth object
-whose body axis passes within `max_offset` (2 cm) of the result body's centre, with a radius
-within `max_radius_error` (1 cm); the nearest such object wins. Then, per model:
+A result object (accepted, with a "body") is matched to the ground-truth object whose body
+axis passes within `max_offset` (2 cm) of the result body's centre (a sphere: whose centre is
+within 2 cm), with a radius within `max_radius_error` (1 cm); the nearest such object wins.
+Then, per model:
 
 - precision: accepted results of that model matched to a true object of the same model;
 - recall: true objects of that model that are *eligible* (body with at least 500 visible
-  pixels; a mug's handle with at least 150) and recognized as that model;
+  pixels, a bowl's outer sphere included; a mug's handle with at least 150) and recognized as
+  that model;
 - errors of the matched bodies: position (result centre to true axis), radius, axis angle;
 - for jars and cans: the share not reported as mugs.
 
@@ -110,26 +112,29 @@ class Evaluation:
         return out
 
 
-def _body(parts: list[dict]):
+def _body(parts: list[dict], cls: str = "cylinder"):
     for p in parts:
-        if p["role"] == "body" and p["class"] == "cylinder":
+        if p["role"] == "body" and p["class"] == cls:
             return p
     return None
 
 
 def _match(result_body: dict, truths: list[dict], max_offset: float, max_radius_error: float):
-    """The true object whose body axis passes nearest the result's body centre, within limits."""
-    c = np.asarray(result_body["point"])
+    """The true object whose body is nearest the result's body (a cylinder: its axis passes
+    nearest the result's centre; a sphere: its centre), within limits."""
+    sphere = result_body["class"] == "sphere"
+    c = np.asarray(result_body["center" if sphere else "point"])
     best, best_d = None, max_offset
     for t in truths:
-        b = _body(t["parts"])
+        b = _body(t["parts"], result_body["class"])
         if b is None:
             continue
         cam = b["camera"]
-        p, a = np.asarray(cam["point"]), np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
+        p, a = np.asarray(cam.get("point", cam.get("center"))), np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
         q = c - p
-        d = np.linalg.norm(q - a * q.dot(a))
-        if d <= best_d and abs(result_body["radius"] - cam["radius"]) <= max_radius_error and abs(q.dot(a)) <= cam["height"]:
+        d = np.linalg.norm(q) if sphere else np.linalg.norm(q - a * q.dot(a))
+        within = sphere or abs(q.dot(a)) <= cam["height"]
+        if d <= best_d and abs(result_body["radius"] - cam["radius"]) <= max_radius_error and within:
             best, best_d = t, d
     return best, best_d
 
@@ -150,7 +155,7 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
             s.results += 1
             body = o["parts"].get("body")
             t = None
-            if body is not None and body["class"] == "cylinder":
+            if body is not None and body["class"] in ("cylinder", "sphere"):
                 t, d = _match(body, objects, max_offset, max_radius_error)
             if t is None:
                 ev.mistakes.append(f"{tag}: {o['model']} {o['score']:.2f} matches no object")
@@ -160,14 +165,15 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
                 ev.mistakes.append(f"{tag}: the {t['model']} {t['id']} taken for a {o['model']} ({o['score']:.2f})")
                 continue
             s.correct += 1
-            cam = _body(t["parts"])["camera"]
-            a = np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
+            cam = _body(t["parts"], body["class"])["camera"]
             s.position_mm.append(1000 * d)
             s.radius_mm.append(1000 * abs(body["radius"] - cam["radius"]))
-            cosang = abs(float(np.dot(a, np.asarray(body["axis"]) / np.linalg.norm(body["axis"]))))
-            s.axis_deg.append(math.degrees(math.acos(min(1.0, cosang))))
+            if body["class"] == "cylinder":
+                a = np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
+                cosang = abs(float(np.dot(a, np.asarray(body["axis"]) / np.linalg.norm(body["axis"]))))
+                s.axis_deg.append(math.degrees(math.acos(min(1.0, cosang))))
         for t in objects:
-            b = _body(t["parts"])
+            b = _body(t["parts"]) or _body(t["parts"], "sphere")
             if b is None or b["visible_pixels"] < MIN_BODY_PIXELS:
                 continue
             if t["model"] == "mug":

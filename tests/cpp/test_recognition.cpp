@@ -117,3 +117,13 @@ TEST(TabletopGraph, RecognizesTheMugsOfARenderedFrameInBothModes) {
   for (const auto& o : j["objects"]) mugs += o["accepted"].get<bool>() && o["model"] == "mug";
   EXPECT_EQ(mugs, 3);
 }
+
+TEST(Interpret, EqualScoresGoToTheMoreSpecificConcept) {
+  const auto kb = knowledge::builtin_models();
+  matching::Lattice l;
+  l.hypotheses = {hyp("jar", {0, 1}, 0.97), hyp("can", {0, 1}, 0.97)};
+  const auto out = matching::interpret(kb, l);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].model, "can");  // its radius range is 4x narrower than a jar's
+  EXPECT_TRUE(out[0].accepted);
+}

@@ -59,11 +59,26 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
     if (!concepts.count(H[i].concept_name))
       concepts.emplace(H[i].concept_name, knowledge::select(kb.resolve(H[i].concept_name)));
   }
+  // Between hypotheses that explain as many segments equally well, the more specific concept
+  // wins (a can over a jar for a 66 mm body): the data are likelier under the narrower ranges
+  // (Occam's factor), measured as the sum of the log widths of the attribute ranges of the
+  // parts present.
+  std::vector<double> breadth(H.size(), 0.0);
+  for (std::size_t i = 0; i < H.size(); ++i) {
+    const auto& c = concepts.at(H[i].concept_name);
+    for (const auto& a : c.attributes) {
+      const int k = c.part_index(a.part);
+      if (k < 0 || k >= int(H[i].assignment.size()) || H[i].assignment[k] < 0) continue;
+      const double width = a.range.d - a.range.a;
+      if (std::isfinite(width)) breadth[i] += std::log(std::max(1e-6, width));  // (one-sided ranges: no width)
+    }
+  }
   std::vector<int> order(H.size());
   for (std::size_t i = 0; i < H.size(); ++i) order[i] = int(i);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     if (segs[a].size() != segs[b].size()) return segs[a].size() > segs[b].size();
-    return H[a].score > H[b].score;
+    if (std::abs(H[a].score - H[b].score) > 1e-9) return H[a].score > H[b].score;
+    return breadth[a] < breadth[b] - 1e-9;
   });
   std::set<int> used;
   std::vector<int> accepted, listed;

@@ -34,7 +34,8 @@ struct InterpretOptions {
 
 /// The interpretation of a frame: hypotheses are accepted greedily, one per set of segments,
 /// preferring those that explain more segments (a mug, body and handle, over a cup on the same
-/// body), then the higher score, then the lattice's order; a hypothesis that shares a segment
+/// body), then the higher score, then the more specific concept (narrower attribute ranges: a
+/// can over a jar), then the lattice's order; a hypothesis that shares a segment
 /// with an accepted one is an alternative. Accepted objects come first (best first), then the
 /// alternatives above options.list_score. Deterministic.
 std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, const Lattice& lattice,

@@ -108,9 +108,11 @@ TEST(Models, ShippedFileLoadsAndSpecializes) {
   load_models(kb, kModels);
   for (const char* n : {"container", "mug", "cup", "jar", "can", "bottle", "plate", "bowl"}) EXPECT_TRUE(kb.has(n)) << n;
   const Concept mug = kb.resolve("mug");
-  ASSERT_EQ(mug.parts.size(), 2u);
+  ASSERT_EQ(mug.parts.size(), 3u);
   EXPECT_EQ(mug.parts[0].role, "body");  // inherited from container first
   EXPECT_EQ(mug.parts[1].role, "handle");
+  EXPECT_EQ(mug.parts[2].role, "inside");
+  EXPECT_TRUE(mug.parts[2].optional);
   EXPECT_TRUE(kb.is_a("mug", "container"));
   EXPECT_FALSE(kb.is_a("plate", "container"));
   // the inherited radius range was narrowed, the tilt kept

@@ -71,7 +71,7 @@ Segment to_segment(const synthetic::Shape& shape) {
   Segment s;
   s.cls = primitive_class(shape.cls);
   s.point = shape.point, s.axis = shape.axis.normalized(), s.radius = shape.radius;
-  s.minor_radius = shape.minor_radius, s.height = shape.height;
+  s.minor_radius = shape.minor_radius, s.height = shape.height, s.inward = shape.inward;
   return s;
 }
 
@@ -225,13 +225,14 @@ concepts:
     EXPECT_EQ(ex[i].assignment, bb[i].assignment);
     EXPECT_EQ(ex[i].score, bb[i].score);
   }
-  // the best pair: the two near mugs, each a complete mug hypothesis
+  // the best pair: the two near mugs, each a mug hypothesis with body and handle (their optional
+  // inner wall, not given here, costs each its missing score, 0.9)
   ASSERT_EQ(bb[0].children.size(), 2u);
-  EXPECT_EQ(bb[0].children[0].assignment, (std::vector<int>{0, 1}));
-  EXPECT_EQ(bb[0].children[1].assignment, (std::vector<int>{2, 3}));
+  EXPECT_EQ(bb[0].children[0].assignment, (std::vector<int>{0, 1, -1}));
+  EXPECT_EQ(bb[0].children[1].assignment, (std::vector<int>{2, 3, -1}));
   EXPECT_EQ(bb[0].assignment, (std::vector<int>{0, 2}));
-  EXPECT_GT(bb[0].score, 0.9);
-  for (std::size_t i = 1; i < bb.size(); ++i) EXPECT_LT(bb[i].score, 0.9) << "a far pair or a repeated one";
+  EXPECT_GT(bb[0].score, 0.8);
+  for (std::size_t i = 1; i < bb.size(); ++i) EXPECT_LT(bb[i].score, 0.75) << "a far pair or a repeated one";
   // in the lattice, the pair excludes the single mugs it is made of
   const Lattice l = recognize(kb, {"mug_pair", "mug"}, segs, o);
   int pair_index = -1;

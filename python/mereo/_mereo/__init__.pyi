@@ -197,6 +197,10 @@ class Graph:
         """
     def save(self, path: typing.Any) -> None:
         ...
+    def set_options(self, name: str, **kwargs) -> None:
+        """
+        Changes options of a node: g.set_options('objects', models='mug').
+        """
     def set_overflow(self, policy: str, capacity: typing.SupportsInt = 2) -> None:
         ...
     def summary(self) -> dict:

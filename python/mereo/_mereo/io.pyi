@@ -5,7 +5,7 @@ from __future__ import annotations
 import collections.abc
 import mereo._mereo
 import typing
-__all__: list[str] = ['Sequence', 'colorize_depth', 'colorize_labels', 'colorize_normals', 'hstack', 'open', 'read', 'read_intrinsics', 'write_image', 'write_pcd', 'write_png_pair']
+__all__: list[str] = ['Sequence', 'colorize_depth', 'colorize_labels', 'colorize_normals', 'draw_objects', 'hstack', 'open', 'read', 'read_intrinsics', 'write_image', 'write_pcd', 'write_png_pair']
 class Sequence:
     """
     Frames loaded lazily, in order: len(seq), seq[i], iteration.
@@ -31,6 +31,10 @@ def colorize_labels(labels: typing.Any) -> typing.Any:
 def colorize_normals(normals: typing.Any) -> typing.Any:
     """
     Normals (H, W, 3) as colours (n + 1) / 2, black where missing.
+    """
+def draw_objects(image: typing.Any, intrinsics: mereo._mereo.Intrinsics, objects: collections.abc.Sequence[tuple[str, collections.abc.Sequence[...]]]) -> typing.Any:
+    """
+    The image with each (label, [Segment, ...]) drawn: projected part outlines and the label.
     """
 def hstack(images: collections.abc.Sequence[typing.Any], gap: typing.SupportsInt = 4) -> typing.Any:
     """

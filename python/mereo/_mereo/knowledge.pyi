@@ -53,6 +53,14 @@ class Segment:
     def inliers(self, arg0: typing.SupportsInt) -> None:
         ...
     @property
+    def inward(self) -> bool:
+        """
+        seen from inside (a mug's inner wall)
+        """
+    @inward.setter
+    def inward(self, arg0: bool) -> None:
+        ...
+    @property
     def mean_color(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
         ...
     @property

@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'identity', 'checksum', 'fail_on_frame']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'report', 'identity', 'checksum', 'fail_on_frame']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -44,6 +44,8 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         min_support_torus (int, default 80, 10..1e+07): fewest pixels of a torus
         max_primitives (int, default 64, 1..10000): at most this many segments
         handles_near_cylinders (bool, default true): look for a torus next to every cylinder
+        handle_body_min_radius (float, default 0.02, 0..1): ... whose radius is at least this, metres
+        handle_body_max_radius (float, default 0.08, 0..1): ... and at most this
     """
 def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
     """
@@ -109,6 +111,7 @@ def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     Inputs:
         segments (Segments): the frame's segments (camera frame)
         frame (Frame, optional): the frame; with a pose, 'up' comes from it (else the camera's -y)
+        plane (SupportPlane, optional): the support plane; its normal is 'up' (before the frame's pose)
     Outputs:
         lattice (Lattice): hypotheses (best first per concept) and exclusion arcs
     Options:
@@ -116,6 +119,23 @@ def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
         file (str, default ): a YAML model file (empty: the shipped models)
         best (int, default 10, 1..1000): hypotheses kept per concept
         min_score (float, default 0.05, 0..1): hypotheses below this score are dropped
+    """
+def report(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    The accepted objects (one per set of segments, most explaining first) and the frame's JSON result.
+    
+    Inputs:
+        frame (Frame): the frame (its id and source)
+        segments (Segments): the frame's segments
+        lattice (Lattice): the hypotheses of match_models
+        plane (SupportPlane, optional): the support plane, reported when given
+    Outputs:
+        result (Text): the frame's result, one JSON object
+    Options:
+        file (str, default ): the model file of match_models (empty: the shipped models)
+        min_score (float, default 0.5, 0..1): hypotheses below this score are not accepted
+        min_posterior (float, default 0.5, 0..1): nor below this posterior
+        list_score (float, default 0.3, 0..1): alternatives at or above this are listed
     """
 def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
     """

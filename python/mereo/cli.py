@@ -198,8 +198,12 @@ def cmd_recognize(args) -> int:
 
         before = set(load_models().names())
         names = [n for n in load_models(models_file).names() if n not in before]
-    graph = recognition.tabletop_graph(names or None, goal=args.goal, models_file=models_file, graph=args.graph)
-    seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale, frames=args.frames)
+    seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale, frames=args.frames,
+                  distractors=args.distractors)
+    # a sequence is tracked (graphs/tabletop_tracking.yaml: "track" ids, false hypotheses dropped)
+    track = len(seq) > 1 and not args.no_track and not args.graph
+    graph = recognition.tabletop_graph(names or None, goal=args.goal, models_file=models_file,
+                                       graph=args.graph, tracking=track, odometry=args.odometry)
     out = open(args.out, "w") if args.out else sys.stdout
     overlay = Path(args.overlay) if args.overlay else None
     if overlay:
@@ -296,6 +300,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--out", help="write the JSON lines here (default: standard output)")
     g.add_argument("--overlay", metavar="DIR", help="write each frame with the recognized objects drawn")
     g.add_argument("--mode", choices=["parallel", "deterministic"], default="parallel")
+    g.add_argument("--no-track", action="store_true", help="a sequence: recognize each frame on its own")
+    g.add_argument("--odometry", action="store_true",
+                   help="a sequence: estimate the camera poses (RGB-D odometry) even where the input has them")
+    g.add_argument("--distractors", action="store_true", help="synthetic:SEED: handle-like tori beside some jars")
     g.set_defaults(run=cmd_recognize)
 
     e = sub.add_parser("evaluate", help="precision, recall and errors against the renderer's ground truth")

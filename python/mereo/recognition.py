@@ -67,11 +67,21 @@ def goal_options(goal: str | None, models_file: str = "") -> dict:
 
 
 def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | None = None,
-                   models_file: str = "", graph: str | Path | None = None) -> Graph:
+                   models_file: str = "", graph: str | Path | None = None, tracking: bool = False,
+                   odometry: bool = False) -> Graph:
     """The tabletop pipeline (or the graph file `graph`), with the models to look for (names of
     concepts; default all the file's) and an optional goal that restricts them and drives the
-    top-down search (``goal="mug"``: the models become ["mug"], primitives the mug's classes)."""
-    g = Graph.load(str(graph) if graph else str(_graph_path("tabletop.yaml")))
+    top-down search (``goal="mug"``: the models become ["mug"], primitives the mug's classes).
+    With `tracking`, the pipeline of ``tabletop_tracking.yaml``: hypotheses held across the
+    frames of a sequence (the frames' poses; with `odometry`, poses estimated from the frames),
+    each reported object with its "track" id."""
+    if graph:
+        g = Graph.load(str(graph))
+    else:
+        text = _graph_path("tabletop_tracking.yaml" if tracking else "tabletop.yaml").read_text()
+        if tracking and odometry:
+            text = _with_odometry(text)
+        g = Graph.parse(text, "tabletop_tracking.yaml" if tracking else "tabletop.yaml")
     if isinstance(models, str):
         models = [m.strip() for m in models.split(",") if m.strip()]
     if goal:
@@ -80,10 +90,19 @@ def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | Non
     if models:
         g.set_options("objects", models=",".join(models))
     if models_file:
-        g.set_options("objects", file=str(models_file))
-        g.set_options("result", file=str(models_file))
+        for node in ("objects", "result") + (("tracks",) if tracking else ()):
+            g.set_options(node, file=str(models_file))
     g.verify()
     return g
+
+
+def _with_odometry(yaml: str) -> str:
+    """The tracking pipeline with the tracker's poses from the odometry node."""
+    for node in ("tracks", "result"):  # the tracker and the report share the odometry's world
+        yaml = yaml.replace(f"  - source.frame -> {node}.frame", f"  - poses.frame -> {node}.frame")
+    yaml = yaml.replace("  - name: filter\n", "  - name: poses\n    kind: odometry\n    options: {replace: true}\n"
+                        "  - name: filter\n", 1)
+    return yaml.replace("edges:\n", "edges:\n  - source.frame -> poses.frame\n", 1)
 
 
 def _result(r: dict) -> dict:

@@ -192,3 +192,19 @@ def test_the_real_mug(real):
         radius = np.sqrt(c @ c - sol[2])
         keep = np.abs(np.linalg.norm(xy - c, axis=1) - radius) < 0.01
     assert abs(mugs[0]["parts"]["body"]["radius"] - radius) < 0.005
+
+
+def test_a_sequence_is_tracked(tmp_path):
+    """`mereo recognize` on a sequence runs the tracking pipeline: every reported object has a
+    track id, a mug keeps its id from frame to frame, and --no-track recognizes frames alone."""
+    out = tmp_path / "seq.jsonl"
+    assert cli.main(["recognize", "synthetic:703", "--frames", "6", "--out", str(out)]) == 0
+    lines = [json.loads(s) for s in out.read_text().splitlines()]
+    assert len(lines) == 6
+    ids = [sorted(o["track"] for o in r["objects"] if o["model"] == "mug") for r in lines]
+    assert ids[0] and all(i == ids[0] for i in ids[1:])
+    assert all({"track", "probability", "in_view"} <= set(o) for r in lines for o in r["objects"])
+    assert cli.main(["recognize", "synthetic:703", "--frames", "2", "--no-track", "--out", str(out)]) == 0
+    assert all("track" not in o for s in out.read_text().splitlines() for o in json.loads(s)["objects"])
+    g = mereo.tabletop_graph(tracking=True, odometry=True)
+    assert "poses" in g.to_yaml() and "tracks" in g.to_yaml()

@@ -341,13 +341,28 @@ struct GraphRunner {
     });
     using Stage = flow::multifunction_node<Msg, std::tuple<Msg>>;
     std::vector<std::unique_ptr<Stage>> stages;
+    // An ordered node gets its frames through a gate (the join of its predecessors: one message
+    // per frame) and a sequencer (frame order), then runs serially.
+    std::vector<std::unique_ptr<Stage>> gates(nodes.size());
+    std::vector<std::unique_ptr<flow::sequencer_node<Msg>>> sequencers(nodes.size());
+    std::vector<flow::receiver<Msg>*> entry(nodes.size());
     for (std::size_t k = 0; k < nodes.size(); ++k) {
-      const std::size_t concurrency = nodes[k]->spec->serial ? flow::serial : flow::unlimited;
-      stages.push_back(std::make_unique<Stage>(g, concurrency, [this, k](Msg s, Stage::output_ports_type& out) {
-        if (--s->pending[k] != 0) return;  // waits for its other predecessors
+      const bool ordered = nodes[k]->spec->ordered;
+      const std::size_t concurrency = nodes[k]->spec->serial || ordered ? flow::serial : flow::unlimited;
+      stages.push_back(std::make_unique<Stage>(g, concurrency, [this, k, ordered](Msg s, Stage::output_ports_type& out) {
+        if (!ordered && --s->pending[k] != 0) return;  // waits for its other predecessors
         step(int(k), *s);
         std::get<0>(out).try_put(s);
       }));
+      entry[k] = stages[k].get();
+      if (!ordered) continue;
+      gates[k] = std::make_unique<Stage>(g, flow::unlimited, [k](Msg s, Stage::output_ports_type& out) {
+        if (--s->pending[k] == 0) std::get<0>(out).try_put(s);
+      });
+      sequencers[k] = std::make_unique<flow::sequencer_node<Msg>>(g, [](const Msg& s) { return s->index; });
+      flow::make_edge(flow::output_port<0>(*gates[k]), *sequencers[k]);
+      flow::make_edge(*sequencers[k], *stages[k]);
+      entry[k] = gates[k].get();
     }
     Stage done(g, flow::unlimited, [](Msg s, Stage::output_ports_type& out) {
       if (--s->sinks_pending == 0) std::get<0>(out).try_put(s);
@@ -379,8 +394,8 @@ struct GraphRunner {
     flow::make_edge(input, limiter);
     flow::make_edge(limiter, load);
     for (std::size_t k = 0; k < nodes.size(); ++k) {
-      if (nodes[k]->predecessors == 0) flow::make_edge(load, *stages[k]);
-      for (int s : nodes[k]->successors) flow::make_edge(flow::output_port<0>(*stages[k]), *stages[s]);
+      if (nodes[k]->predecessors == 0) flow::make_edge(load, *entry[k]);
+      for (int s : nodes[k]->successors) flow::make_edge(flow::output_port<0>(*stages[k]), *entry[s]);
       if (nodes[k]->successors.empty()) flow::make_edge(flow::output_port<0>(*stages[k]), done);
     }
     flow::make_edge(flow::output_port<0>(done), order);

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "mereo/cognitive/tracking.hpp"
 #include "mereo/core/frame.hpp"
 #include "mereo/core/segment.hpp"
 #include "mereo/extension/support_plane.hpp"
@@ -81,6 +82,11 @@ void register_builtin(Registry& r) {
     s << l.hypotheses.size() << " hypotheses, " << l.excludes.size() << " exclusions";
     if (!l.hypotheses.empty()) s << ", best " << l.hypotheses.front().concept_name << " " << l.hypotheses.front().score;
     return s.str();
+  });
+  add<std::vector<cognitive::Track>>(r, "Tracks", [](const std::vector<cognitive::Track>& t) {
+    std::size_t reported = 0;
+    for (const auto& x : t) reported += x.probability() >= 0.5;
+    return std::to_string(t.size()) + " tracks, " + std::to_string(reported) + " reported";
   });
   add<std::vector<Segment>>(r, "Segments", [](const std::vector<Segment>& s) {
     return std::to_string(s.size()) + " segments";

@@ -147,10 +147,13 @@ std::string segment_json(const Segment& s) {
 
 std::string result_json(const Frame& frame, const std::vector<Segment>& segments,
                         const std::vector<RecognizedObject>& objects, const extension::SupportPlane* plane,
-                        const std::vector<std::pair<std::string, double>>& timing_ms) {
+                        const std::vector<std::pair<std::string, double>>& timing_ms,
+                        const std::string& objects_array) {
   std::ostringstream j;
-  j << "{\"frame\": " << quoted(frame.id) << ", \"source\": " << quoted(frame.source) << ", \"objects\": [";
-  for (std::size_t k = 0; k < objects.size(); ++k) {
+  j << "{\"frame\": " << quoted(frame.id) << ", \"source\": " << quoted(frame.source) << ", \"objects\": ";
+  if (!objects_array.empty()) j << objects_array.substr(0, objects_array.size() - 1);  // (its "]" follows)
+  else j << "[";
+  for (std::size_t k = 0; k < objects.size() && objects_array.empty(); ++k) {
     const auto& o = objects[k];
     j << (k ? ", " : "") << "{\"id\": " << o.id << ", \"model\": " << quoted(o.model) << ", \"score\": " << num(o.score)
       << ", \"posterior\": " << num(o.posterior) << ", \"accepted\": " << (o.accepted ? "true" : "false")

@@ -11,6 +11,8 @@ std::vector<graph::NodeSpec> builtin_node_specs() {
       support_plane_node(),
       detect_primitives_node(),
       match_models_node(),
+      odometry_node(),
+      track_objects_node(),
       report_node(),
       // diagnostics: engine tests and benchmarks
       identity_node(),

@@ -16,6 +16,8 @@ graph::NodeSpec support_plane_node();
 graph::NodeSpec detect_primitives_node();
 graph::NodeSpec match_models_node();
 graph::NodeSpec report_node();
+graph::NodeSpec track_objects_node();
+graph::NodeSpec odometry_node();
 graph::NodeSpec identity_node();
 graph::NodeSpec checksum_node();
 graph::NodeSpec fail_on_frame_node();

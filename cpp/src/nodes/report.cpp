@@ -8,6 +8,7 @@
 //     - primitives.segments -> result.segments
 //     - objects.lattice -> result.lattice
 //     - table.plane -> result.plane           # optional: reported as "support_plane"
+#include "mereo/cognitive/tracking.hpp"
 #include "mereo/core/frame.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/knowledge/model_file.hpp"
@@ -25,13 +26,15 @@ graph::NodeSpec report_node() {
   s.inputs = {{"frame", "Frame", "the frame (its id and source)"},
               {"segments", "Segments", "the frame's segments"},
               {"lattice", "Lattice", "the hypotheses of match_models"},
-              {"plane", "SupportPlane", "the support plane, reported when given", false}};
+              {"plane", "SupportPlane", "the support plane, reported when given", false},
+              {"tracks", "Tracks", "tracked objects (track_objects): reported instead of the frame's own", false}};
   s.outputs = {{"result", "Text", "the frame's result, one JSON object"}};
   s.options = {
       {"file", OptionType::String, std::string(""), 0, 0, {}, "the model file of match_models (empty: the shipped models)"},
       {"min_score", OptionType::Double, def.min_score, 0, 1, {}, "hypotheses below this score are not accepted"},
       {"min_posterior", OptionType::Double, def.min_posterior, 0, 1, {}, "nor below this posterior"},
       {"list_score", OptionType::Double, def.list_score, 0, 1, {}, "alternatives at or above this are listed"},
+      {"track_probability", OptionType::Double, 0.5, 0, 1, {}, "with tracks: those at or above this are reported"},
   };
   s.make = [](const graph::Options& o) {
     auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(o.get_string("file")));
@@ -39,12 +42,18 @@ graph::NodeSpec report_node() {
     io.min_score = o.get_double("min_score");
     io.min_posterior = o.get_double("min_posterior");
     io.list_score = o.get_double("list_score");
-    return graph::NodeBody([kb, io](graph::NodeContext& ctx) {
+    const double track_probability = o.get_double("track_probability");
+    return graph::NodeBody([kb, io, track_probability](graph::NodeContext& ctx) {
       const auto& segments = ctx.input<std::vector<Segment>>("segments");
       const auto objects = matching::interpret(*kb, ctx.input<matching::Lattice>("lattice"), io);
       const extension::SupportPlane* plane =
           ctx.has_input("plane") ? &ctx.input<extension::SupportPlane>("plane") : nullptr;
-      ctx.output("result", matching::result_json(ctx.input<Frame>("frame"), segments, objects, plane));
+      const Frame& frame = ctx.input<Frame>("frame");
+      std::string tracked;
+      if (ctx.has_input("tracks"))
+        tracked = cognitive::objects_json(ctx.input<std::vector<cognitive::Track>>("tracks"),
+                                          frame.pose.value_or(Pose::Identity()), track_probability);
+      ctx.output("result", matching::result_json(frame, segments, objects, plane, {}, tracked));
     });
   };
   return s;

@@ -86,6 +86,9 @@ struct NodeSpec {
   std::vector<OptionSpec> options;
   std::function<NodeBody(const Options&)> make;
   bool serial = false;                ///< at most one frame at a time (stateful nodes, Python)
+  /// Frames one at a time and in their order, in both modes (nodes that track across frames);
+  /// implies serial.
+  bool ordered = false;
   bool is_source = false;             ///< fed by the run's frame source (frame_source only)
 
   const PortSpec* input(const std::string& name) const;

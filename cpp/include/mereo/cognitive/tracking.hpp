@@ -1,0 +1,109 @@
+// mereo/cognitive/tracking.hpp: the cognitive layer: object hypotheses held across frames in the
+// world frame, rescored by every new view, refined by a Kalman filter, dropped when their parts
+// drift apart or the views stop supporting them.
+//
+// Each frame brings observations (the frame's object hypotheses, matching::interpret: accepted
+// ones and their alternatives) in the camera frame and the camera's pose. For every held track:
+//  - association: the observations whose body lies within `max_distance` of the track's body
+//    (world frame) with a radius within `max_radius_difference`;
+//  - judgement (recursive, in log-odds): an accepted observation of the track's model raises it
+//    by `support * (2 score - 1)`, and each of its other parts adds `consistent` when it stays
+//    where the track holds it relative to the body (within `part_tolerance`) or `drifted`
+//    (negative) when it moved away from its partner (a plate's rim taken for a handle, a ring
+//    beside a jar seen from another side); a body seen but taken for something else adds
+//    `contradicted` (negative); a track not seen at all decays towards undecided by `decay`
+//    per frame and is dropped after `max_missed` frames;
+//  - a Kalman filter per track over its parts' parameters (positions, radii, height), world
+//    frame, static objects: measurement noise grows with depth (z^2), a small process noise
+//    absorbs pose errors.
+// Accepted observations that match no track start new tracks with stable, increasing ids.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mereo/core/camera.hpp"
+#include "mereo/core/segment.hpp"
+
+namespace mereo::cognitive {
+
+struct TrackOptions {
+  double max_distance = 0.03;           ///< association: body centres, metres (world)
+  double max_radius_difference = 0.01;  ///< association: body radii, metres
+  double part_tolerance = 0.015;        ///< a part stays put relative to its body, metres
+  double support = 1.5;                 ///< log-odds per supporting view, times (2 score - 1)
+  double consistent = 0.5;              ///< per part that stayed put
+  double drifted = -2.5;                ///< per part that moved away from its body
+  double contradicted = -1.5;           ///< body seen, the model not accepted for it
+  double decay = 0.9;                   ///< log-odds factor per frame unseen
+  int max_missed = 30;                  ///< frames unseen before a track is dropped
+  double report = 0.5;                  ///< probability at which a track is reported
+  double drop = 0.1;                    ///< probability below which a track is dropped
+  double measurement_noise = 0.002;     ///< sigma of a measured parameter at 1 m (grows as z^2)
+  double process_noise = 0.0003;        ///< sigma per frame
+};
+
+/// One object hypothesis of a frame (camera frame).
+struct Observation {
+  std::string model;
+  double score = 0.0;
+  bool accepted = false;
+  std::vector<std::pair<std::string, Segment>> parts;  ///< role -> segment; "body" first if any
+  std::vector<int> segments;                           ///< their indices in the frame's segments
+};
+
+/// A part as the track holds it: fused parameters in the world frame.
+struct TrackedPart {
+  std::string role;
+  Segment world;
+  int segment = -1;  ///< its segment in the last frame, -1 when not seen there
+};
+
+struct Track {
+  int id = 0;
+  std::string model;
+  double log_odds = 0.0;
+  int age = 0;        ///< frames since it started
+  int hits = 0;       ///< frames with a supporting view
+  int missed = 0;     ///< consecutive frames without any view of its body
+  bool seen = false;  ///< its body was observed in the last frame
+  double score = 0.0; ///< the last supporting observation's score
+  std::vector<TrackedPart> parts;
+  /// Kalman state: per part, [point x y z, radius, minor radius, height] (world) and variances.
+  Eigen::VectorXd x, P;
+
+  double probability() const;
+  const TrackedPart* part(const std::string& role) const;
+};
+
+class Tracker {
+ public:
+  explicit Tracker(TrackOptions options = {});
+  /// One frame: its observations (camera frame) and the camera-to-world pose. Returns the live
+  /// tracks (dropped ones are gone), by id.
+  const std::vector<Track>& update(const std::vector<Observation>& observations, const Pose& camera_to_world);
+  const std::vector<Track>& tracks() const { return tracks_; }
+  const TrackOptions& options() const { return options_; }
+  /// Every id ever dropped, with the frame it was dropped at (frames counted from 0).
+  const std::vector<std::pair<int, int>>& dropped() const { return dropped_; }
+
+ private:
+  TrackOptions options_;
+  std::vector<Track> tracks_;
+  std::vector<std::pair<int, int>> dropped_;
+  int next_id_ = 0;
+  int frame_ = -1;
+};
+
+/// A segment moved by a pose (points transformed, axes rotated).
+Segment transformed(const Segment& s, const Pose& T);
+
+/// The tracks at or above `report` probability as a JSON array of objects in the camera frame
+/// of `camera_to_world` (DESIGN.md's "objects", with "track" = the track's id, "probability",
+/// "in_view", and each part's fused parameters; "segment" is its segment in this frame, -1 when
+/// it was not seen).
+std::string objects_json(const std::vector<Track>& tracks, const Pose& camera_to_world, double report);
+
+}  // namespace mereo::cognitive

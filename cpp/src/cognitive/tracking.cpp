@@ -1,0 +1,222 @@
+// Tracking object hypotheses across frames (see tracking.hpp).
+#include "mereo/cognitive/tracking.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "mereo/matching/interpret.hpp"
+
+namespace mereo::cognitive {
+namespace {
+
+constexpr int kPerPart = 6;  // Kalman state per part: point (3), radius, minor radius, height
+
+const Segment* body_of(const Observation& o) {
+  for (const auto& [role, s] : o.parts)
+    if (role == "body") return &s;
+  return o.parts.empty() ? nullptr : &o.parts.front().second;
+}
+
+Eigen::Matrix<double, kPerPart, 1> params(const Segment& s) {
+  Eigen::Matrix<double, kPerPart, 1> v;
+  v << s.point, s.radius, s.minor_radius, s.height;
+  return v;
+}
+
+/// The track's body (its first part).
+const Segment& track_body(const Track& t) { return t.parts.front().world; }
+
+bool same_body(const Segment& a, const Segment& b, const TrackOptions& o) {
+  if (a.cls != b.cls) return false;
+  const Eigen::Vector3d d = a.point - b.point;
+  // cylinders: the centres' distance across the axis (the visible extent, hence the centre along
+  // the axis, changes with the view); spheres and others: the centres' distance
+  const double across = a.cls == PrimitiveClass::Cylinder ? (d - a.axis.normalized() * a.axis.normalized().dot(d)).norm()
+                                                          : d.norm();
+  return across <= o.max_distance && std::abs(a.radius - b.radius) <= o.max_radius_difference;
+}
+
+/// Where a part sits relative to its body: the offset of its centre, world frame.
+Eigen::Vector3d offset(const Segment& part, const Segment& body) { return part.point - body.point; }
+
+}  // namespace
+
+Segment transformed(const Segment& s, const Pose& T) {
+  Segment out = s;
+  out.point = T * s.point;
+  out.axis = T.linear() * s.axis;
+  if (s.cls == PrimitiveClass::Plane) out.d = -out.axis.dot(out.point);
+  return out;
+}
+
+double Track::probability() const { return 1.0 / (1.0 + std::exp(-log_odds)); }
+
+const TrackedPart* Track::part(const std::string& role) const {
+  for (const auto& p : parts)
+    if (p.role == role) return &p;
+  return nullptr;
+}
+
+Tracker::Tracker(TrackOptions options) : options_(options) {}
+
+const std::vector<Track>& Tracker::update(const std::vector<Observation>& observations, const Pose& camera_to_world) {
+  ++frame_;
+  const TrackOptions& o = options_;
+  // the observations in the world frame, and each one's depth (for its measurement noise)
+  std::vector<Observation> world(observations);
+  std::vector<double> depth(observations.size(), 1.0);
+  for (std::size_t k = 0; k < world.size(); ++k) {
+    for (auto& [role, s] : world[k].parts) s = transformed(s, camera_to_world);
+    if (const Segment* b = body_of(observations[k])) depth[k] = std::max(0.3, b->point.z());
+  }
+  std::vector<bool> used(world.size(), false);
+
+  for (Track& t : tracks_) {
+    ++t.age;
+    for (auto& p : t.parts) p.segment = -1;
+    // the observations of this track's body
+    int support = -1;
+    bool seen = false;
+    for (std::size_t k = 0; k < world.size(); ++k) {
+      const Segment* b = body_of(world[k]);
+      if (!b || !same_body(*b, track_body(t), o)) continue;
+      seen = true;
+      if (world[k].accepted && world[k].model == t.model && (support < 0 || world[k].score > world[support].score))
+        support = int(k);
+    }
+    t.seen = seen;
+    if (!seen) {
+      t.log_odds *= o.decay;
+      ++t.missed;
+      continue;
+    }
+    t.missed = 0;
+    if (support < 0) {
+      t.log_odds += o.contradicted;
+      continue;
+    }
+    const Observation& ob = world[support];
+    used[support] = true;
+    ++t.hits;
+    t.score = ob.score;
+    double delta = o.support * (2 * ob.score - 1);
+    const Segment& body_now = *body_of(ob);
+    // parts: consistent with the body where the track holds them, or drifted away
+    std::vector<bool> fuse(t.parts.size(), false);
+    for (std::size_t p = 0; p < t.parts.size(); ++p) {
+      const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == t.parts[p].role; });
+      if (it == ob.parts.end()) continue;
+      t.parts[p].segment = ob.segments.size() > std::size_t(it - ob.parts.begin()) ? ob.segments[it - ob.parts.begin()] : -1;
+      if (p == 0) {
+        fuse[p] = true;
+        continue;
+      }
+      const double moved = (offset(it->second, body_now) - offset(t.parts[p].world, track_body(t))).norm();
+      if (moved <= o.part_tolerance) {
+        delta += o.consistent;
+        fuse[p] = true;
+      } else {
+        delta += o.drifted;
+      }
+    }
+    t.log_odds = std::clamp(t.log_odds + delta, -20.0, 20.0);
+    // Kalman update of the parts that hold (static model: the prediction only adds process noise)
+    const double r = std::pow(o.measurement_noise * depth[support] * depth[support], 2);
+    for (std::size_t p = 0; p < t.parts.size(); ++p) {
+      if (!fuse[p]) continue;
+      const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == t.parts[p].role; });
+      auto z = params(it->second);
+      Segment& w = t.parts[p].world;
+      if (w.cls == PrimitiveClass::Cylinder) {
+        // the centre along the axis follows the visible extent: only its position across the
+        // axis is measured; along the axis the track keeps the newest view's
+        const Eigen::Vector3d a = w.axis.normalized();
+        const Eigen::Vector3d along = a * a.dot(z.head<3>() - t.x.segment<3>(kPerPart * p));
+        t.x.segment<3>(kPerPart * p) += along;
+      }
+      for (int i = 0; i < kPerPart; ++i) {
+        const int j = kPerPart * int(p) + i;
+        t.P(j) += o.process_noise * o.process_noise;
+        const double gain = t.P(j) / (t.P(j) + r);
+        t.x(j) += gain * (z(i) - t.x(j));
+        t.P(j) *= 1 - gain;
+      }
+      // axes: a running mean, sign-aligned
+      Eigen::Vector3d axis = it->second.axis.normalized();
+      if (axis.dot(w.axis) < 0) axis = -axis;
+      w.axis = (w.axis.normalized() * double(t.hits - 1) + axis).normalized();
+      w.point = t.x.segment<3>(kPerPart * p);
+      w.radius = t.x(kPerPart * p + 3);
+      w.minor_radius = t.x(kPerPart * p + 4);
+      w.height = t.x(kPerPart * p + 5);
+      w.inliers = it->second.inliers;
+    }
+  }
+  // drop what the views no longer support, or what has been out of view too long
+  std::vector<Track> kept;
+  for (Track& t : tracks_) {
+    if (t.probability() < o.drop || t.missed > o.max_missed) {
+      dropped_.push_back({t.id, frame_});
+      continue;
+    }
+    kept.push_back(std::move(t));
+  }
+  tracks_ = std::move(kept);
+  // new tracks from the accepted observations that no track took
+  for (std::size_t k = 0; k < world.size(); ++k) {
+    const Observation& ob = world[k];
+    if (used[k] || !ob.accepted || !body_of(ob)) continue;
+    bool taken = false;  // another track of the same model already holds this body
+    for (const Track& t : tracks_) taken = taken || (t.model == ob.model && same_body(*body_of(ob), track_body(t), o));
+    if (taken) continue;
+    Track t;
+    t.id = next_id_++;
+    t.model = ob.model;
+    t.log_odds = o.support * (2 * ob.score - 1);
+    t.hits = 1, t.seen = true, t.score = ob.score;
+    // the body first, then the other parts
+    std::vector<std::pair<std::string, Segment>> parts = ob.parts;
+    std::stable_partition(parts.begin(), parts.end(), [](const auto& q) { return q.first == "body"; });
+    t.x.resize(kPerPart * int(parts.size()));
+    t.P.resize(kPerPart * int(parts.size()));
+    const double r = std::pow(o.measurement_noise * depth[k] * depth[k], 2);
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+      const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == parts[p].first; });
+      const int seg = ob.segments.size() > std::size_t(it - ob.parts.begin()) ? ob.segments[it - ob.parts.begin()] : -1;
+      t.parts.push_back({parts[p].first, parts[p].second, seg});
+      t.x.segment<kPerPart>(kPerPart * p) = params(parts[p].second);
+      t.P.segment<kPerPart>(kPerPart * p).setConstant(r);
+    }
+    tracks_.push_back(std::move(t));
+  }
+  std::sort(tracks_.begin(), tracks_.end(), [](const Track& a, const Track& b) { return a.id < b.id; });
+  return tracks_;
+}
+
+std::string objects_json(const std::vector<Track>& tracks, const Pose& camera_to_world, double report) {
+  const Pose camera_from_world = camera_to_world.inverse();
+  std::ostringstream j;
+  j << "[";
+  int id = 0;
+  for (const Track& t : tracks) {
+    if (t.probability() < report) continue;
+    j << (id ? ", " : "") << "{\"id\": " << id << ", \"model\": \"" << t.model << "\", \"score\": " << t.score
+      << ", \"probability\": " << t.probability() << ", \"accepted\": true, \"track\": " << t.id
+      << ", \"in_view\": " << (t.seen ? "true" : "false") << ", \"age\": " << t.age << ", \"parts\": {";
+    for (std::size_t p = 0; p < t.parts.size(); ++p) {
+      std::string s = matching::segment_json(transformed(t.parts[p].world, camera_from_world));
+      s.insert(1, "\"segment\": " + std::to_string(t.parts[p].segment) + ", ");
+      j << (p ? ", " : "") << "\"" << t.parts[p].role << "\": " << s;
+    }
+    j << "}, \"excludes\": []}";
+    ++id;
+  }
+  j << "]";
+  return j.str();
+}
+
+}  // namespace mereo::cognitive

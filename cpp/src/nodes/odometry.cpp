@@ -1,0 +1,45 @@
+// odometry: camera poses estimated frame to frame (cognitive::Odometry, OpenCV's RGB-D
+// odometry) for inputs without poses; frames in order. With `replace`, a pose the frame already
+// has is replaced too (to compare the estimate with the truth).
+//
+//   nodes:
+//     - {name: poses, kind: odometry}
+//   edges:
+//     - source.frame -> poses.frame
+//     - poses.frame -> tracks.frame
+#include <memory>
+
+#include "mereo/cognitive/odometry.hpp"
+#include "nodes/registry.hpp"
+
+namespace mereo::nodes {
+
+graph::NodeSpec odometry_node() {
+  using graph::OptionType;
+  const cognitive::OdometryOptions def;
+  graph::NodeSpec s;
+  s.kind = "odometry";
+  s.doc = "Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world).";
+  s.inputs = {{"frame", "Frame", "an RGB-D frame"}};
+  s.outputs = {{"frame", "Frame", "the same frame with its estimated pose"}};
+  s.options = {
+      {"replace", OptionType::Bool, false, 0, 0, {}, "estimate even where the frame has a pose"},
+      {"max_depth", OptionType::Double, def.max_depth, 0.5, 20, {}, "farther points are not used, metres"},
+  };
+  s.ordered = true;
+  s.make = [](const graph::Options& o) {
+    cognitive::OdometryOptions oo;
+    oo.max_depth = o.get_double("max_depth");
+    auto odometry = std::make_shared<cognitive::Odometry>(oo);
+    const bool replace = o.get_bool("replace");
+    return graph::NodeBody([odometry, replace](graph::NodeContext& ctx) {
+      Frame f = ctx.input<Frame>("frame");
+      const Pose p = odometry->update(f);
+      if (replace || !f.pose) f.pose = p;
+      ctx.output("frame", std::move(f));
+    });
+  };
+  return s;
+}
+
+}  // namespace mereo::nodes

@@ -1,0 +1,68 @@
+// track_objects: the cognitive layer (cognitive::Tracker): the frame's object hypotheses
+// (matching::interpret of the lattice) associated with the tracks held across frames in the
+// world frame (camera poses from the frames: the renderer's, a TUM groundtruth.txt, or the
+// odometry node's), rescored, Kalman-refined, dropped; frames in order.
+//
+//   nodes:
+//     - {name: tracks, kind: track_objects}
+//   edges:
+//     - source.frame -> tracks.frame          # its pose (identity when it has none)
+//     - primitives.segments -> tracks.segments
+//     - objects.lattice -> tracks.lattice
+//     - tracks.tracks -> result.tracks
+#include <memory>
+
+#include "mereo/cognitive/tracking.hpp"
+#include "mereo/core/frame.hpp"
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/matching/interpret.hpp"
+#include "nodes/registry.hpp"
+
+namespace mereo::nodes {
+
+graph::NodeSpec track_objects_node() {
+  using graph::OptionType;
+  const cognitive::TrackOptions def;
+  graph::NodeSpec s;
+  s.kind = "track_objects";
+  s.doc = "Object hypotheses tracked across frames (world frame): rescored per view, Kalman-refined, dropped when "
+          "their parts drift apart; stable track ids.";
+  s.inputs = {{"frame", "Frame", "the frame; its pose (camera to world) places the hypotheses"},
+              {"segments", "Segments", "the frame's segments"},
+              {"lattice", "Lattice", "the frame's hypotheses (match_models)"}};
+  s.outputs = {{"tracks", "Tracks", "the live tracks, by id"}};
+  s.options = {
+      {"file", OptionType::String, std::string(""), 0, 0, {}, "the model file of match_models (empty: the shipped models)"},
+      {"max_distance", OptionType::Double, def.max_distance, 0.001, 1, {}, "association: body centres, metres"},
+      {"part_tolerance", OptionType::Double, def.part_tolerance, 0.001, 1, {}, "a part stays put relative to its body"},
+      {"max_missed", OptionType::Int, (long long)def.max_missed, 1, 100000, {}, "frames unseen before a track is dropped"},
+      {"report", OptionType::Double, def.report, 0, 1, {}, "probability at which a track is reported"},
+      {"drop", OptionType::Double, def.drop, 0, 1, {}, "probability below which a track is dropped"},
+  };
+  s.ordered = true;
+  s.make = [](const graph::Options& o) {
+    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(o.get_string("file")));
+    cognitive::TrackOptions to;
+    to.max_distance = o.get_double("max_distance");
+    to.part_tolerance = o.get_double("part_tolerance");
+    to.max_missed = int(o.get_int("max_missed"));
+    to.report = o.get_double("report");
+    to.drop = o.get_double("drop");
+    auto tracker = std::make_shared<cognitive::Tracker>(to);  // one per run: the body is made per run
+    return graph::NodeBody([kb, tracker](graph::NodeContext& ctx) {
+      const auto& segments = ctx.input<std::vector<Segment>>("segments");
+      const auto& frame = ctx.input<Frame>("frame");
+      std::vector<cognitive::Observation> obs;
+      for (const auto& r : matching::interpret(*kb, ctx.input<matching::Lattice>("lattice"))) {
+        cognitive::Observation ob;
+        ob.model = r.model, ob.score = r.score, ob.accepted = r.accepted;
+        for (const auto& [role, k] : r.parts) ob.parts.emplace_back(role, segments.at(std::size_t(k))), ob.segments.push_back(k);
+        obs.push_back(std::move(ob));
+      }
+      ctx.output("tracks", tracker->update(obs, frame.pose.value_or(Pose::Identity())));
+    });
+  };
+  return s;
+}
+
+}  // namespace mereo::nodes

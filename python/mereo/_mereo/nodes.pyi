@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'report', 'identity', 'checksum', 'fail_on_frame']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'odometry', 'track_objects', 'report', 'identity', 'checksum', 'fail_on_frame']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -120,6 +120,18 @@ def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
         best (int, default 10, 1..1000): hypotheses kept per concept
         min_score (float, default 0.05, 0..1): hypotheses below this score are dropped
     """
+def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world).
+    
+    Inputs:
+        frame (Frame): an RGB-D frame
+    Outputs:
+        frame (Frame): the same frame with its estimated pose
+    Options:
+        replace (bool, default false): estimate even where the frame has a pose
+        max_depth (float, default 4, 0.5..20): farther points are not used, metres
+    """
 def report(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The accepted objects (one per set of segments, most explaining first) and the frame's JSON result.
@@ -129,6 +141,7 @@ def report(**kwargs) -> mereo._mereo.NodeTemplate:
         segments (Segments): the frame's segments
         lattice (Lattice): the hypotheses of match_models
         plane (SupportPlane, optional): the support plane, reported when given
+        tracks (Tracks, optional): tracked objects (track_objects): reported instead of the frame's own
     Outputs:
         result (Text): the frame's result, one JSON object
     Options:
@@ -136,6 +149,7 @@ def report(**kwargs) -> mereo._mereo.NodeTemplate:
         min_score (float, default 0.5, 0..1): hypotheses below this score are not accepted
         min_posterior (float, default 0.5, 0..1): nor below this posterior
         list_score (float, default 0.3, 0..1): alternatives at or above this are listed
+        track_probability (float, default 0.5, 0..1): with tracks: those at or above this are reported
     """
 def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
     """
@@ -155,4 +169,22 @@ def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
         min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
         max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
         margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres
+    """
+def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    Object hypotheses tracked across frames (world frame): rescored per view, Kalman-refined, dropped when their parts drift apart; stable track ids.
+    
+    Inputs:
+        frame (Frame): the frame; its pose (camera to world) places the hypotheses
+        segments (Segments): the frame's segments
+        lattice (Lattice): the frame's hypotheses (match_models)
+    Outputs:
+        tracks (Tracks): the live tracks, by id
+    Options:
+        file (str, default ): the model file of match_models (empty: the shipped models)
+        max_distance (float, default 0.03, 0.001..1): association: body centres, metres
+        part_tolerance (float, default 0.015, 0.001..1): a part stays put relative to its body
+        max_missed (int, default 30, 1..100000): frames unseen before a track is dropped
+        report (float, default 0.5, 0..1): probability at which a track is reported
+        drop (float, default 0.1, 0..1): probability below which a track is dropped
     """

@@ -19,6 +19,7 @@ void bind_synthetic(py::module_& m) {
       .def_readwrite("intrinsics", &syn::SceneOptions::intrinsics)
       .def_readwrite("noise", &syn::SceneOptions::noise)
       .def_readwrite("distractors", &syn::SceneOptions::distractors)
+      .def_readwrite("ambiguous_distractors", &syn::SceneOptions::ambiguous_distractors)
       .def_readwrite("min_objects", &syn::SceneOptions::min_objects)
       .def_readwrite("max_objects", &syn::SceneOptions::max_objects)
       .def_readwrite("min_distance", &syn::SceneOptions::min_distance)

@@ -200,8 +200,9 @@ def cmd_recognize(args) -> int:
         names = [n for n in load_models(models_file).names() if n not in before]
     seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale, frames=args.frames,
                   distractors=args.distractors)
-    # a sequence is tracked (graphs/tabletop_tracking.yaml: "track" ids, false hypotheses dropped)
-    track = len(seq) > 1 and not args.no_track and not args.graph
+    # one input that is a sequence (a folder, a TUM folder, synthetic:SEED --frames N) is tracked
+    # (graphs/tabletop_tracking.yaml: "track" ids, false hypotheses dropped); separate inputs are not
+    track = len(args.inputs) == 1 and len(seq) > 1 and not args.no_track and not args.graph
     graph = recognition.tabletop_graph(names or None, goal=args.goal, models_file=models_file,
                                        graph=args.graph, tracking=track, odometry=args.odometry)
     out = open(args.out, "w") if args.out else sys.stdout

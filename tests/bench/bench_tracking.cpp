@@ -1,5 +1,5 @@
 // bench_tracking: the cognitive layer over rendered sequences (the camera orbiting the table,
-// handle-like distractors beside jars): graphs/tabletop_tracking.yaml with the renderer's poses,
+// handle-like rings leaning on jars: from some views they pass for a mug's handle): graphs/tabletop_tracking.yaml with the renderer's poses,
 // and the same graph with the poses estimated by the odometry node (OpenCV's RGB-D ICP
 // odometry, the reference of the poses being the renderer's). Per setting: false mug tracks
 // and how many are dropped within 5 frames, true mugs lost, id switches per 100 frames, the
@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
     graph::Graph g = s == &given ? graph::Graph::parse(yaml, file) : graph::Graph::parse(with_odometry(yaml), file);
     for (int q = 0; q < sequences; ++q) {
       synthetic::SceneOptions so;
-      so.distractors = true;
+      so.ambiguous_distractors = true;
       const std::uint64_t seed = 700 + std::uint64_t(q);
       const auto seq = synthetic::render_sequence(seed, frames, so);
       std::vector<Frame> input;
@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
       bench::score_sequence(seq, tracks, "seed " + std::to_string(seed), s->score, world_from_track);
     }
   }
-  std::printf("bench_tracking: %d sequences (seeds 700-%d) of %d frames, distractors beside jars\n\n", sequences,
+  std::printf("bench_tracking: %d sequences (seeds 700-%d) of %d frames, rings leaning on jars\n\n", sequences,
               700 + sequences - 1, frames);
   std::printf("%-20s %10s %14s %10s %12s %14s %14s\n", "poses", "ms/frame", "false mugs", "dropped<=5",
               "mugs lost", "switches/100", "radius mm 1|10");

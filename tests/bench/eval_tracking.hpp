@@ -7,8 +7,8 @@
 //  - a true mug is lost when, after it has been reported, a frame that shows it (body >= 500
 //    pixels, handle >= 150) reports no mug track on it;
 //  - id switches: per true mug, the number of times the reporting track's id changes;
-//  - radius errors: of each true mug's first reporting frame (one view) and of the frames
-//    after its tenth view (fused).
+//  - radius errors: of the body as each frame's own view measured it (one view), and of the
+//    track's filtered body in the frames after its tenth view (fused).
 #pragma once
 
 #include <algorithm>
@@ -80,6 +80,9 @@ inline void score_sequence(const std::vector<synthetic::SyntheticFrame>& seq,
       if (!reported_false.count(id) && !false_done.count(id)) {
         false_done.insert(id);
         acc.false_mugs_dropped_in_5 += int(k) - since <= 5;
+        if (int(k) - since > 5)
+          acc.notes.push_back(tag + ": false mug track " + std::to_string(id) + " reported from frame " +
+                              std::to_string(since) + " to " + std::to_string(k - 1));
       }
     for (const auto& o : gt.objects_truth) {
       if (o.model != "mug") continue;
@@ -97,9 +100,10 @@ inline void score_sequence(const std::vector<synthetic::SyntheticFrame>& seq,
       }
       reported_once.insert(o.id);
       const int n = ++views[o.id];
-      const double err = 1000 * std::abs(it->second->parts.front().world.radius - b->world.radius);
-      if (n == 1) acc.single_view_radius_mm.push_back(err);
-      if (n >= 10) acc.fused_radius_mm.push_back(err);
+      const auto& body_part = it->second->parts.front();
+      if (body_part.segment >= 0)  // seen in this frame: its own measurement
+        acc.single_view_radius_mm.push_back(1000 * std::abs(body_part.observed.radius - b->world.radius));
+      if (n >= 10) acc.fused_radius_mm.push_back(1000 * std::abs(body_part.world.radius - b->world.radius));
       if (last_id.count(o.id) && last_id[o.id] != it->second->id) ++acc.id_switches;
       last_id[o.id] = it->second->id;
     }

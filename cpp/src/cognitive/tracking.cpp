@@ -96,7 +96,18 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     }
     t.missed = 0;
     if (support < 0) {
-      t.log_odds += o.contradicted;
+      // the body is there but not taken for this model: a contradiction, unless a part that
+      // would make the difference is hidden behind the body from this view (a mug seen with
+      // its handle at the back looks like a cup)
+      const Pose to_camera = camera_to_world.inverse();
+      const Eigen::Vector3d body = to_camera * track_body(t).point, ray = body.normalized();
+      bool hidden = false;  // behind the body and within its silhouette
+      for (std::size_t p = 1; p < t.parts.size(); ++p) {
+        const Eigen::Vector3d rel = to_camera * t.parts[p].world.point - body;
+        const double along = rel.dot(ray), lateral = (rel - ray * along).norm();
+        hidden = hidden || (along > 0 && lateral < track_body(t).radius);
+      }
+      if (!hidden) t.log_odds += o.contradicted;
       continue;
     }
     const Observation& ob = world[support];
@@ -111,6 +122,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
       const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == t.parts[p].role; });
       if (it == ob.parts.end()) continue;
       t.parts[p].segment = ob.segments.size() > std::size_t(it - ob.parts.begin()) ? ob.segments[it - ob.parts.begin()] : -1;
+      t.parts[p].observed = it->second;
       if (p == 0) {
         fuse[p] = true;
         continue;
@@ -187,7 +199,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     for (std::size_t p = 0; p < parts.size(); ++p) {
       const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == parts[p].first; });
       const int seg = ob.segments.size() > std::size_t(it - ob.parts.begin()) ? ob.segments[it - ob.parts.begin()] : -1;
-      t.parts.push_back({parts[p].first, parts[p].second, seg});
+      t.parts.push_back({parts[p].first, parts[p].second, seg, parts[p].second});
       t.x.segment<kPerPart>(kPerPart * p) = params(parts[p].second);
       t.P.segment<kPerPart>(kPerPart * p).setConstant(r);
     }

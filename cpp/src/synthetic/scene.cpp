@@ -325,11 +325,42 @@ bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_
 }
 
 /// A handle-like half torus standing on the table beside jar `jar_index`; false if no room.
-bool add_distractor(Scene& scene, Placer& placer, Rng& rng, int jar_index) {
+bool add_distractor(Scene& scene, Placer& placer, Rng& rng, int jar_index, bool ambiguous) {
   const Shape& body = scene.objects[jar_index].parts.front().second;
   const double Rj = body.radius;
   const double jx = body.point.x(), jy = body.point.y();
   const double a = rng.uniform(0.02, 0.03), minor = rng.uniform(0.004, 0.008);
+  if (ambiguous) {
+    // a ring leaning on the jar at its mid-height, its plane turned by beta from the radial plane
+    for (int attempt = 0; attempt < 40; ++attempt) {
+      const double phi = rng.uniform(0.0, 2 * kPi), beta = rng.uniform(35.0, 70.0) * kPi / 180.0;
+      const Vec3 u(std::cos(phi), std::sin(phi), 0.0), v = Vec3::UnitZ().cross(u);
+      const Vec3 e = std::cos(beta) * u + std::sin(beta) * v;  // the ring's in-plane horizontal direction
+      const double reach = Rj + rng.uniform(0.0, 0.003) + minor;  // its nearest point's distance to the axis
+      const double D = a * std::cos(beta) + std::sqrt(std::max(0.0, reach * reach - std::pow(a * std::sin(beta), 2)));
+      const double x = jx + D * u.x(), y = jy + D * u.y();
+      const double fr = a + minor;
+      if (std::abs(x) > placer.x_max - fr || std::abs(y) > placer.y_max - fr) continue;
+      if (!placer.free(x, y, fr, fr, jar_index)) continue;
+      SceneObject obj;
+      obj.model = "distractor";
+      obj.color = random_color(rng);
+      Shape t;
+      t.cls = "torus";
+      t.point = Vec3(x, y, body.point.z());
+      t.axis = e.cross(Vec3::UnitZ()).normalized();
+      t.axis2 = e;
+      t.radius = a;
+      t.minor_radius = minor;
+      t.arc_start = 0.0;
+      t.arc_end = 2 * kPi;
+      obj.parts.emplace_back("handle", t);
+      placer.taken.push_back({x, y, fr, int(scene.objects.size())});
+      scene.objects.push_back(std::move(obj));
+      return true;
+    }
+    return false;
+  }
   for (int attempt = 0; attempt < 40; ++attempt) {
     const double gap = rng.uniform(0.01, 0.025);
     const double phi = rng.uniform(0.0, 2 * kPi);
@@ -465,12 +496,12 @@ Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
     if (ok && scene.objects.back().model == "mug") have_mug = true;
   }
 
-  if (options.distractors) {
+  if (options.distractors || options.ambiguous_distractors) {
     const std::size_t count = scene.objects.size();
     bool first = true;
     for (std::size_t i = 0; i < count; ++i) {
       if (scene.objects[i].model != "jar") continue;
-      if (first || rng.chance(0.5)) add_distractor(scene, placer, rng, int(i));
+      if (first || rng.chance(0.5)) add_distractor(scene, placer, rng, int(i), options.ambiguous_distractors);
       first = false;
     }
   }

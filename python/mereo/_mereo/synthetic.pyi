@@ -11,6 +11,7 @@ class SceneOptions:
     """
     Options of the synthetic tabletop scene.
     """
+    ambiguous_distractors: bool
     distractors: bool
     intrinsics: mereo._mereo.Intrinsics
     noise: bool

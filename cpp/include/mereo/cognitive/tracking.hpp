@@ -11,7 +11,9 @@
 //    where the track holds it relative to the body (within `part_tolerance`) or `drifted`
 //    (negative) when it moved away from its partner (a plate's rim taken for a handle, a ring
 //    beside a jar seen from another side); a body seen but taken for something else adds
-//    `contradicted` (negative); a track not seen at all decays towards undecided by `decay`
+//    `contradicted` (negative), unless one of the track's other parts is hidden behind the body
+//    (farther along the ray, within its silhouette: a mug with its handle at the back looks
+//    like a cup); a track not seen at all decays towards undecided by `decay`
 //    per frame and is dropped after `max_missed` frames;
 //  - a Kalman filter per track over its parts' parameters (positions, radii, height), world
 //    frame, static objects: measurement noise grows with depth (z^2), a small process noise
@@ -32,11 +34,11 @@ namespace mereo::cognitive {
 struct TrackOptions {
   double max_distance = 0.03;           ///< association: body centres, metres (world)
   double max_radius_difference = 0.01;  ///< association: body radii, metres
-  double part_tolerance = 0.015;        ///< a part stays put relative to its body, metres
+  double part_tolerance = 0.01;         ///< a part stays put relative to its body, metres
   double support = 1.5;                 ///< log-odds per supporting view, times (2 score - 1)
   double consistent = 0.5;              ///< per part that stayed put
   double drifted = -2.5;                ///< per part that moved away from its body
-  double contradicted = -1.5;           ///< body seen, the model not accepted for it
+  double contradicted = -2.0;           ///< body seen, the model not accepted for it
   double decay = 0.9;                   ///< log-odds factor per frame unseen
   int max_missed = 30;                  ///< frames unseen before a track is dropped
   double report = 0.5;                  ///< probability at which a track is reported
@@ -59,6 +61,7 @@ struct TrackedPart {
   std::string role;
   Segment world;
   int segment = -1;  ///< its segment in the last frame, -1 when not seen there
+  Segment observed;  ///< as the last supporting view measured it (world frame, unfiltered)
 };
 
 struct Track {

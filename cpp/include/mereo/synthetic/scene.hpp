@@ -83,6 +83,9 @@ struct SceneOptions {
   Intrinsics intrinsics = Intrinsics::kinect_vga();
   bool noise = true;                 ///< apply the Kinect-like noise model to Frame::depth
   bool distractors = false;          ///< handle-like tori beside some jars
+  /// ... touching the jar at its mid-height, the ring's plane turned 35-70 degrees away from
+  /// the jar's axis: from some views it passes for a handle, from the views around not.
+  bool ambiguous_distractors = false;
   int min_objects = 3;               ///< objects on the table (besides distractors)
   int max_objects = 6;
   double min_distance = 0.6;         ///< camera distance to the table centre, metres

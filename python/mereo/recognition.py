@@ -73,15 +73,10 @@ def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | Non
     concepts; default all the file's) and an optional goal that restricts them and drives the
     top-down search (``goal="mug"``: the models become ["mug"], primitives the mug's classes).
     With `tracking`, the pipeline of ``tabletop_tracking.yaml``: hypotheses held across the
-    frames of a sequence (the frames' poses; with `odometry`, poses estimated from the frames),
-    each reported object with its "track" id."""
-    if graph:
-        g = Graph.load(str(graph))
-    else:
-        text = _graph_path("tabletop_tracking.yaml" if tracking else "tabletop.yaml").read_text()
-        if tracking and odometry:
-            text = _with_odometry(text)
-        g = Graph.parse(text, "tabletop_tracking.yaml" if tracking else "tabletop.yaml")
+    frames of a sequence (the frames' poses; with `odometry`, ``tabletop_odometry.yaml``: poses
+    estimated from the frames), each reported object with its "track" id."""
+    name = "tabletop_odometry.yaml" if tracking and odometry else "tabletop_tracking.yaml" if tracking else "tabletop.yaml"
+    g = Graph.load(str(graph) if graph else str(_graph_path(name)))
     if isinstance(models, str):
         models = [m.strip() for m in models.split(",") if m.strip()]
     if goal:
@@ -94,15 +89,6 @@ def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | Non
             g.set_options(node, file=str(models_file))
     g.verify()
     return g
-
-
-def _with_odometry(yaml: str) -> str:
-    """The tracking pipeline with the tracker's poses from the odometry node."""
-    for node in ("tracks", "result"):  # the tracker and the report share the odometry's world
-        yaml = yaml.replace(f"  - source.frame -> {node}.frame", f"  - poses.frame -> {node}.frame")
-    yaml = yaml.replace("  - name: filter\n", "  - name: poses\n    kind: odometry\n    options: {replace: true}\n"
-                        "  - name: filter\n", 1)
-    return yaml.replace("edges:\n", "edges:\n  - source.frame -> poses.frame\n", 1)
 
 
 def _result(r: dict) -> dict:

@@ -1,6 +1,7 @@
 // bench_tracking: the cognitive layer over rendered sequences (the camera orbiting the table,
-// handle-like rings leaning on jars: from some views they pass for a mug's handle): graphs/tabletop_tracking.yaml with the renderer's poses,
-// and the same graph with the poses estimated by the odometry node (OpenCV's RGB-D ICP
+// handle-like rings leaning on jars: from some views they pass for a mug's handle):
+// graphs/tabletop_tracking.yaml with the renderer's poses, and graphs/tabletop_odometry.yaml
+// with the poses estimated by the odometry node (OpenCV's RGB-D ICP
 // odometry, the reference of the poses being the renderer's). Per setting: false mug tracks
 // and how many are dropped within 5 frames, true mugs lost, id switches per 100 frames, the
 // median radius error of one view and after ten (eval_tracking.hpp), time per frame; for the
@@ -26,25 +27,6 @@ using bench::now_ms;
 
 namespace {
 
-std::string read_text(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  std::string s;
-  char buf[4096];
-  for (std::size_t n; f && (n = std::fread(buf, 1, sizeof buf, f)) > 0;) s.append(buf, n);
-  if (f) std::fclose(f);
-  return s;
-}
-
-/// The tracking graph with an odometry node giving the frames' poses to the tracker (the
-/// frames come without poses: the support plane finds the table without gravity).
-std::string with_odometry(std::string yaml) {
-  const std::string edge = "  - source.frame -> tracks.frame";
-  yaml.replace(yaml.find(edge), edge.size(), "  - poses.frame -> tracks.frame");
-  yaml.replace(yaml.find("  - name: filter"), 0, "  - name: poses\n    kind: odometry\n");
-  yaml.replace(yaml.find("edges:\n") + 7, 0, "  - source.frame -> poses.frame\n");
-  return yaml;
-}
-
 struct Setting {
   std::string name;
   bench::TrackingScore score;
@@ -59,11 +41,12 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--quick") quick = true;
   const int sequences = quick ? 2 : 8, frames = quick ? 12 : 30;
-  const std::string file = std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop_tracking.yaml";
-  const std::string yaml = read_text(file);
   Setting given{"poses given"}, estimated{"poses by odometry"};
   for (Setting* s : {&given, &estimated}) {
-    graph::Graph g = s == &given ? graph::Graph::parse(yaml, file) : graph::Graph::parse(with_odometry(yaml), file);
+    // the odometry's graph: the frames' poses estimated (they come without poses here, so the
+    // support plane finds the table without gravity)
+    graph::Graph g = graph::Graph::load(std::string(MEREO_SOURCE_DIR) +
+                                        (s == &given ? "/graphs/tabletop_tracking.yaml" : "/graphs/tabletop_odometry.yaml"));
     for (int q = 0; q < sequences; ++q) {
       synthetic::SceneOptions so;
       so.ambiguous_distractors = true;

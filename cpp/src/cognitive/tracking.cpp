@@ -4,11 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include <Eigen/Geometry>
 
-#include "mereo/matching/interpret.hpp"
+#include "cognitive/json.hpp"
 
 namespace mereo::cognitive {
 namespace {
@@ -39,6 +38,16 @@ bool same_body(const Segment& a, const Segment& b, const TrackOptions& o) {
                                                           : d.norm();
   return across <= o.max_distance && std::abs(a.radius - b.radius) <= o.max_radius_difference;
 }
+
+/// The index of `role` among the observation's parts, -1 if absent.
+int part_index(const Observation& o, const std::string& role) {
+  for (std::size_t k = 0; k < o.parts.size(); ++k)
+    if (o.parts[k].first == role) return int(k);
+  return -1;
+}
+
+/// The frame's segment of the observation's part k (-1 when not given).
+int segment_of(const Observation& o, int k) { return k >= 0 && std::size_t(k) < o.segments.size() ? o.segments[std::size_t(k)] : -1; }
 
 /// Where a part sits relative to its body: the offset of its centre, world frame.
 Eigen::Vector3d offset(const Segment& part, const Segment& body) { return part.point - body.point; }
@@ -116,21 +125,22 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     t.score = ob.score;
     double delta = o.support * (2 * ob.score - 1);
     const Segment& body_now = *body_of(ob);
-    // parts: consistent with the body where the track holds them, or drifted away
-    std::vector<bool> fuse(t.parts.size(), false);
+    // parts: consistent with the body where the track holds them (fused), or drifted away
+    std::vector<const Segment*> fuse(t.parts.size(), nullptr);
     for (std::size_t p = 0; p < t.parts.size(); ++p) {
-      const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == t.parts[p].role; });
-      if (it == ob.parts.end()) continue;
-      t.parts[p].segment = ob.segments.size() > std::size_t(it - ob.parts.begin()) ? ob.segments[it - ob.parts.begin()] : -1;
-      t.parts[p].observed = it->second;
+      const int k = part_index(ob, t.parts[p].role);
+      if (k < 0) continue;
+      const Segment& seen_part = ob.parts[std::size_t(k)].second;
+      t.parts[p].segment = segment_of(ob, k);
+      t.parts[p].observed = seen_part;
       if (p == 0) {
-        fuse[p] = true;
+        fuse[p] = &seen_part;
         continue;
       }
-      const double moved = (offset(it->second, body_now) - offset(t.parts[p].world, track_body(t))).norm();
+      const double moved = (offset(seen_part, body_now) - offset(t.parts[p].world, track_body(t))).norm();
       if (moved <= o.part_tolerance) {
         delta += o.consistent;
-        fuse[p] = true;
+        fuse[p] = &seen_part;
       } else {
         delta += o.drifted;
       }
@@ -140,8 +150,8 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     const double r = std::pow(o.measurement_noise * depth[support] * depth[support], 2);
     for (std::size_t p = 0; p < t.parts.size(); ++p) {
       if (!fuse[p]) continue;
-      const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == t.parts[p].role; });
-      auto z = params(it->second);
+      const Segment& m = *fuse[p];
+      auto z = params(m);
       Segment& w = t.parts[p].world;
       if (w.cls == PrimitiveClass::Cylinder) {
         // the centre along the axis follows the visible extent: only its position across the
@@ -158,14 +168,14 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         t.P(j) *= 1 - gain;
       }
       // axes: a running mean, sign-aligned
-      Eigen::Vector3d axis = it->second.axis.normalized();
+      Eigen::Vector3d axis = m.axis.normalized();
       if (axis.dot(w.axis) < 0) axis = -axis;
       w.axis = (w.axis.normalized() * double(t.hits - 1) + axis).normalized();
       w.point = t.x.segment<3>(kPerPart * p);
       w.radius = t.x(kPerPart * p + 3);
       w.minor_radius = t.x(kPerPart * p + 4);
       w.height = t.x(kPerPart * p + 5);
-      w.inliers = it->second.inliers;
+      w.inliers = m.inliers;
     }
   }
   // drop what the views no longer support, or what has been out of view too long
@@ -191,16 +201,16 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     t.log_odds = o.support * (2 * ob.score - 1);
     t.hits = 1, t.seen = true, t.score = ob.score;
     // the body first, then the other parts
-    std::vector<std::pair<std::string, Segment>> parts = ob.parts;
-    std::stable_partition(parts.begin(), parts.end(), [](const auto& q) { return q.first == "body"; });
-    t.x.resize(kPerPart * int(parts.size()));
-    t.P.resize(kPerPart * int(parts.size()));
+    std::vector<int> order(ob.parts.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+    std::stable_partition(order.begin(), order.end(), [&](int i) { return ob.parts[std::size_t(i)].first == "body"; });
+    t.x.resize(kPerPart * int(order.size()));
+    t.P.resize(kPerPart * int(order.size()));
     const double r = std::pow(o.measurement_noise * depth[k] * depth[k], 2);
-    for (std::size_t p = 0; p < parts.size(); ++p) {
-      const auto it = std::find_if(ob.parts.begin(), ob.parts.end(), [&](const auto& q) { return q.first == parts[p].first; });
-      const int seg = ob.segments.size() > std::size_t(it - ob.parts.begin()) ? ob.segments[it - ob.parts.begin()] : -1;
-      t.parts.push_back({parts[p].first, parts[p].second, seg, parts[p].second});
-      t.x.segment<kPerPart>(kPerPart * p) = params(parts[p].second);
+    for (std::size_t p = 0; p < order.size(); ++p) {
+      const auto& [role, part] = ob.parts[std::size_t(order[p])];
+      t.parts.push_back({role, part, segment_of(ob, order[p]), part});
+      t.x.segment<kPerPart>(kPerPart * p) = params(part);
       t.P.segment<kPerPart>(kPerPart * p).setConstant(r);
     }
     tracks_.push_back(std::move(t));
@@ -209,26 +219,34 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
   return tracks_;
 }
 
-std::string objects_json(const std::vector<Track>& tracks, const Pose& camera_to_world, double report) {
+namespace detail {
+
+matching::detail::Json tracks_to_json(const std::vector<Track>& tracks, const Pose& camera_to_world, double report) {
+  using matching::detail::Json;
   const Pose camera_from_world = camera_to_world.inverse();
-  std::ostringstream j;
-  j << "[";
-  int id = 0;
+  Json out = Json::array();
   for (const Track& t : tracks) {
     if (t.probability() < report) continue;
-    j << (id ? ", " : "") << "{\"id\": " << id << ", \"model\": \"" << t.model << "\", \"score\": " << t.score
-      << ", \"probability\": " << t.probability() << ", \"accepted\": true, \"track\": " << t.id
-      << ", \"in_view\": " << (t.seen ? "true" : "false") << ", \"age\": " << t.age << ", \"parts\": {";
-    for (std::size_t p = 0; p < t.parts.size(); ++p) {
-      std::string s = matching::segment_json(transformed(t.parts[p].world, camera_from_world));
-      s.insert(1, "\"segment\": " + std::to_string(t.parts[p].segment) + ", ");
-      j << (p ? ", " : "") << "\"" << t.parts[p].role << "\": " << s;
+    Json o;
+    o["id"] = out.size(), o["model"] = t.model, o["score"] = t.score, o["probability"] = t.probability();
+    o["accepted"] = true, o["track"] = t.id, o["in_view"] = t.seen, o["age"] = t.age;
+    o["parts"] = Json::object();
+    for (const auto& p : t.parts) {
+      Json part;
+      part["segment"] = p.segment;
+      part.update(matching::detail::segment_to_json(transformed(p.world, camera_from_world)));
+      o["parts"][p.role] = std::move(part);
     }
-    j << "}, \"excludes\": []}";
-    ++id;
+    o["excludes"] = Json::array();
+    out.push_back(std::move(o));
   }
-  j << "]";
-  return j.str();
+  return out;
+}
+
+}  // namespace detail
+
+std::string objects_json(const std::vector<Track>& tracks, const Pose& camera_to_world, double report) {
+  return detail::tracks_to_json(tracks, camera_to_world, report).dump();
 }
 
 }  // namespace mereo::cognitive

@@ -150,17 +150,17 @@ struct Candidate {
 
 /// Handle hypotheses next to a body (the model-driven search for a mug's handle). A handle is a
 /// torus whose ring plane holds the body's axis, outside the wall, within the body's height:
-///  1. the usable pixels of `mask` between the wall (radius + noise) and 7 cm beyond it, within
+///  1. the usable pixels of `region` between the wall (radius + noise) and 7 cm beyond it, within
 ///     the body's visible height (less 3 mm: the table's edge pixels at its foot are not a
 ///     handle), are binned by azimuth about the axis;
 ///  2. the best azimuth windows (25 deg, at most two that do not overlap) give a ring plane each
 ///     (through the axis, at the circular mean azimuth of their pixels);
-///  3. a torus starting at the window's extent (tube radius 6 mm, ring radius = half
-///     its height span, outer edge at its farthest pixel) is refined by Levenberg-Marquardt on
-///     the pixels of the window (a plain geometric fit: the normals of a noisy 1 cm tube are
-///     poor), trimmed to the points within 2 epsilon and refitted.
-/// Each plausible torus is a candidate seeded at its best-fitting pixel; its score is the number
-/// of pixels within epsilon. Deterministic: no sampling.
+///  3. a torus starting at the window's extent (tube radius 6 mm, ring radius = half its height
+///     span, outer edge at its farthest pixel) is refined by Levenberg-Marquardt on the pixels of
+///     the window standing off the wall (a geometric fit, detail::refit_handle: the normals of a
+///     noisy 1 cm tube are poor): the ring with the tube held, trimmed twice to the points within
+///     2 epsilon, then the tube too if it stays plausible.
+/// Each plausible torus is a candidate scored by its pixels within epsilon. Deterministic.
 std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, const std::vector<int>& region,
                                          int min_support) {
   const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
@@ -203,7 +203,6 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
   for (int peak : peaks) {
     const double theta0 = (peak + 0.5) / kBins * 2 * M_PI - M_PI;
     std::vector<Eigen::Vector3d> sel;
-    std::vector<int> sel_i;
     double sc = 0, ss = 0;
     for (const auto& q : pts) {
       const double d = std::remainder(q.theta - theta0, 2 * M_PI);
@@ -211,7 +210,6 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
       // next to the wall, the wall's own noisy pixels would pull it
       if (std::abs(d) > 15.0 * kDeg || q.rho < body.radius + std::max(0.008, f.eps(f.p(q.i).z()))) continue;
       sel.push_back(f.p(q.i));
-      sel_i.push_back(q.i);
       sc += std::cos(q.theta), ss += std::sin(q.theta);
     }
     if (int(sel.size()) < min_support) continue;
@@ -223,38 +221,31 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Segment& body, c
       hmin = std::min(hmin, h), hmax = std::max(hmax, h);
       rmax = std::max(rmax, u.dot(x - body.point));
     }
-    for (double r0 : {0.006}) {  // (with the ring plane held, 4, 6 and 8 mm starts converge alike)
-      Segment t;
-      t.cls = PrimitiveClass::Torus;
-      t.axis = a.cross(u).normalized();
-      t.minor_radius = r0;
-      t.radius = std::max(0.012, 0.5 * (hmax - hmin) - r0);
-      t.point = body.point + a * (0.5 * (hmin + hmax)) + u * std::max(body.radius, rmax - r0 - t.radius);
-      // the ring first, with the tube radius held (trimmed twice), then everything if the
-      // tube radius stays within the handle's range
-      t = detail::refit_handle(body, t, sel, true);
-      std::vector<Eigen::Vector3d> kept;
-      for (int round = 0; round < 2; ++round) {
-        kept.clear();
-        for (const auto& x : sel)
-          if (std::abs(signed_distance(t, x)) <= 2 * f.eps(x.z())) kept.push_back(x);
-        if (int(kept.size()) < min_support) break;
-        t = detail::refit_handle(body, t, kept, true);
-      }
-      if (int(kept.size()) >= min_support) {
-        const Segment free_fit = detail::refit_handle(body, t, kept);
-        if (plausible(free_fit, f.o, f.o.max_major_radius, 0.0)) t = free_fit;
-      }
-      if (!plausible(t, f.o, f.o.max_major_radius, 0.0)) continue;
-      int seed = -1, score = 0;
-      double best_d = INFINITY;
-      for (std::size_t k = 0; k < sel.size(); ++k) {
-        const double d = std::abs(signed_distance(t, sel[k]));
-        if (d <= f.eps(sel[k].z())) ++score;
-        if (d < best_d && f.near_facing(t, sel_i[k])) best_d = d, seed = sel_i[k];
-      }
-      if (seed >= 0 && score >= min_support) out.push_back({t, seed, double(score)});
+    Segment t;
+    t.cls = PrimitiveClass::Torus;
+    t.axis = a.cross(u).normalized();
+    t.minor_radius = 0.006;  // (with the ring plane held, 4, 6 and 8 mm starts converge alike)
+    t.radius = std::max(0.012, 0.5 * (hmax - hmin) - t.minor_radius);
+    t.point = body.point + a * (0.5 * (hmin + hmax)) + u * std::max(body.radius, rmax - t.minor_radius - t.radius);
+    // the ring first, with the tube radius held (trimmed twice), then everything if the
+    // tube radius stays within the handle's range
+    t = detail::refit_handle(body, t, sel, true);
+    std::vector<Eigen::Vector3d> kept;
+    for (int round = 0; round < 2; ++round) {
+      kept.clear();
+      for (const auto& x : sel)
+        if (std::abs(signed_distance(t, x)) <= 2 * f.eps(x.z())) kept.push_back(x);
+      if (int(kept.size()) < min_support) break;
+      t = detail::refit_handle(body, t, kept, true);
     }
+    if (int(kept.size()) >= min_support) {
+      const Segment free_fit = detail::refit_handle(body, t, kept);
+      if (plausible(free_fit, f.o, f.o.max_major_radius, 0.0)) t = free_fit;
+    }
+    if (!plausible(t, f.o, f.o.max_major_radius, 0.0)) continue;
+    int score = 0;
+    for (const auto& x : sel) score += std::abs(signed_distance(t, x)) <= f.eps(x.z());
+    if (score >= min_support) out.push_back({t, -1, double(score)});
   }
   return out;
 }
@@ -489,18 +480,19 @@ std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::v
       if (pix.size() > best_pix.size()) best = c.s, best_pix = std::move(pix);
     }
     if (int(best_pix.size()) < min_support) break;
-    for (int round = 0; round < 2; ++round) {
+    // refit to pixels: everything if the tube stays plausible, else the ring with the tube held
+    auto refit_to = [&](const std::vector<int>& pix) {
       std::vector<Eigen::Vector3d> pts;
-      for (int i : best_pix) pts.push_back(f.p(i));
+      for (int i : pix) pts.push_back(f.p(i));
       const Segment free_fit = detail::refit_handle(body, best, pts);
-      best = plausible(free_fit, f.o, f.o.max_major_radius, 0.0) ? free_fit : detail::refit_handle(body, best, pts, true);
+      return plausible(free_fit, f.o, f.o.max_major_radius, 0.0) ? free_fit : detail::refit_handle(body, best, pts, true);
+    };
+    for (int round = 0; round < 2; ++round) {
+      best = refit_to(best_pix);
       best_pix = handle_pixels(f, best, region);
     }
     if (int(best_pix.size()) < min_support || !plausible(best, f.o, f.o.max_major_radius, 0.0)) break;
-    std::vector<Eigen::Vector3d> pts;
-    for (int i : best_pix) pts.push_back(f.p(i));
-    const Segment free_fit = detail::refit_handle(body, best, pts);  // residual of the final pixels
-    best = plausible(free_fit, f.o, f.o.max_major_radius, 0.0) ? free_fit : detail::refit_handle(body, best, pts, true);
+    best = refit_to(best_pix);  // (the residual of the final pixels)
     for (int i : best_pix) f.free[i] = 0;
     describe(f, best, std::move(best_pix), color);
     out.push_back(std::move(best));

@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <set>
-#include <sstream>
+
+#include "matching/json.hpp"
 
 namespace mereo::matching {
 namespace {
@@ -16,36 +16,6 @@ void segments_of(const Hypothesis& h, std::set<int>& out) {
     if (s >= 0) out.insert(s);
   for (const auto& c : h.children) segments_of(c, out);
 }
-
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
-std::string vec(const Eigen::Vector3d& v) { return "[" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + "]"; }
 
 }  // namespace
 
@@ -119,73 +89,76 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
   return out;
 }
 
-std::string segment_json(const Segment& s) {
-  std::ostringstream j;
-  j << "{\"class\": " << quoted(to_string(s.cls));
+namespace detail {
+
+Json segment_to_json(const Segment& s) {
+  auto vec = [](const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); };
+  Json j;
+  j["class"] = to_string(s.cls);
   switch (s.cls) {
     case PrimitiveClass::Plane:
-      j << ", \"normal\": " << vec(s.axis) << ", \"d\": " << num(s.d) << ", \"point\": " << vec(s.point);
+      j["normal"] = vec(s.axis), j["d"] = s.d, j["point"] = vec(s.point);
       break;
     case PrimitiveClass::Cylinder:
-      j << ", \"point\": " << vec(s.point) << ", \"axis\": " << vec(s.axis) << ", \"radius\": " << num(s.radius)
-        << ", \"height\": " << num(s.height) << ", \"inward\": " << (s.inward ? "true" : "false");
+      j["point"] = vec(s.point), j["axis"] = vec(s.axis), j["radius"] = s.radius, j["height"] = s.height;
+      j["inward"] = s.inward;
       break;
     case PrimitiveClass::Torus:
-      j << ", \"center\": " << vec(s.point) << ", \"normal\": " << vec(s.axis) << ", \"major_radius\": " << num(s.radius)
-        << ", \"minor_radius\": " << num(s.minor_radius);
+      j["center"] = vec(s.point), j["normal"] = vec(s.axis), j["major_radius"] = s.radius;
+      j["minor_radius"] = s.minor_radius;
       break;
     case PrimitiveClass::Sphere:
-      j << ", \"center\": " << vec(s.point) << ", \"radius\": " << num(s.radius)
-        << ", \"inward\": " << (s.inward ? "true" : "false");
+      j["center"] = vec(s.point), j["radius"] = s.radius, j["inward"] = s.inward;
       break;
     default:
-      j << ", \"point\": " << vec(s.point) << ", \"axis\": " << vec(s.axis);
+      j["point"] = vec(s.point), j["axis"] = vec(s.axis);
   }
-  j << ", \"inliers\": " << s.inliers << ", \"residual\": " << num(s.residual) << ", \"hue\": " << num(s.hue) << "}";
-  return j.str();
+  j["inliers"] = s.inliers, j["residual"] = s.residual, j["hue"] = s.hue;
+  return j;
 }
+
+Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
+                    const std::vector<RecognizedObject>& objects, const extension::SupportPlane* plane,
+                    const std::vector<std::pair<std::string, double>>& timing_ms) {
+  Json j;
+  j["frame"] = frame.id, j["source"] = frame.source;
+  j["objects"] = Json::array();
+  for (const auto& o : objects) {
+    Json obj;
+    obj["id"] = o.id, obj["model"] = o.model, obj["score"] = o.score, obj["posterior"] = o.posterior;
+    obj["accepted"] = o.accepted;
+    obj["parts"] = Json::object();
+    for (const auto& [role, k] : o.parts) {
+      Json part;
+      part["segment"] = k;
+      part.update(segment_to_json(segments.at(std::size_t(k))));
+      obj["parts"][role] = std::move(part);
+    }
+    obj["excludes"] = o.excludes;
+    j["objects"].push_back(std::move(obj));
+  }
+  j["primitives"] = Json::array();
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    Json p;
+    p["id"] = k;
+    p.update(segment_to_json(segments[k]));
+    j["primitives"].push_back(std::move(p));
+  }
+  if (plane && plane->inlier_count > 0)
+    j["support_plane"] = {{"normal", Json::array({plane->normal.x(), plane->normal.y(), plane->normal.z()})},
+                          {"d", plane->d}, {"inliers", plane->inlier_count}, {"rms", plane->rms}};
+  for (const auto& [node, ms] : timing_ms) j["timing_ms"][node] = ms;
+  return j;
+}
+
+}  // namespace detail
+
+std::string segment_json(const Segment& s) { return detail::segment_to_json(s).dump(); }
 
 std::string result_json(const Frame& frame, const std::vector<Segment>& segments,
                         const std::vector<RecognizedObject>& objects, const extension::SupportPlane* plane,
-                        const std::vector<std::pair<std::string, double>>& timing_ms,
-                        const std::string& objects_array) {
-  std::ostringstream j;
-  j << "{\"frame\": " << quoted(frame.id) << ", \"source\": " << quoted(frame.source) << ", \"objects\": ";
-  if (!objects_array.empty()) j << objects_array.substr(0, objects_array.size() - 1);  // (its "]" follows)
-  else j << "[";
-  for (std::size_t k = 0; k < objects.size() && objects_array.empty(); ++k) {
-    const auto& o = objects[k];
-    j << (k ? ", " : "") << "{\"id\": " << o.id << ", \"model\": " << quoted(o.model) << ", \"score\": " << num(o.score)
-      << ", \"posterior\": " << num(o.posterior) << ", \"accepted\": " << (o.accepted ? "true" : "false")
-      << ", \"parts\": {";
-    for (std::size_t p = 0; p < o.parts.size(); ++p) {
-      const Segment& s = segments.at(std::size_t(o.parts[p].second));
-      std::string sj = segment_json(s);
-      sj.insert(1, "\"segment\": " + std::to_string(o.parts[p].second) + ", ");
-      j << (p ? ", " : "") << quoted(o.parts[p].first) << ": " << sj;
-    }
-    j << "}, \"excludes\": [";
-    for (std::size_t e = 0; e < o.excludes.size(); ++e) j << (e ? ", " : "") << o.excludes[e];
-    j << "]}";
-  }
-  j << "], \"primitives\": [";
-  for (std::size_t k = 0; k < segments.size(); ++k) {
-    std::string sj = segment_json(segments[k]);
-    sj.insert(1, "\"id\": " + std::to_string(k) + ", ");
-    j << (k ? ", " : "") << sj;
-  }
-  j << "]";
-  if (plane && plane->inlier_count > 0)
-    j << ", \"support_plane\": {\"normal\": " << vec(plane->normal) << ", \"d\": " << num(plane->d)
-      << ", \"inliers\": " << plane->inlier_count << ", \"rms\": " << num(plane->rms) << "}";
-  if (!timing_ms.empty()) {
-    j << ", \"timing_ms\": {";
-    for (std::size_t k = 0; k < timing_ms.size(); ++k)
-      j << (k ? ", " : "") << quoted(timing_ms[k].first) << ": " << num(timing_ms[k].second);
-    j << "}";
-  }
-  j << "}";
-  return j.str();
+                        const std::vector<std::pair<std::string, double>>& timing_ms) {
+  return detail::result_to_json(frame, segments, objects, plane, timing_ms).dump();
 }
 
 }  // namespace mereo::matching

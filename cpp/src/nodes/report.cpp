@@ -8,11 +8,11 @@
 //     - primitives.segments -> result.segments
 //     - objects.lattice -> result.lattice
 //     - table.plane -> result.plane           # optional: reported as "support_plane"
-#include "mereo/cognitive/tracking.hpp"
+#include "cognitive/json.hpp"
 #include "mereo/core/frame.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/knowledge/model_file.hpp"
-#include "mereo/matching/interpret.hpp"
+#include "matching/json.hpp"
 #include "nodes/registry.hpp"
 
 namespace mereo::nodes {
@@ -44,16 +44,17 @@ graph::NodeSpec report_node() {
     io.list_score = o.get_double("list_score");
     const double track_probability = o.get_double("track_probability");
     return graph::NodeBody([kb, io, track_probability](graph::NodeContext& ctx) {
-      const auto& segments = ctx.input<std::vector<Segment>>("segments");
-      const auto objects = matching::interpret(*kb, ctx.input<matching::Lattice>("lattice"), io);
+      const Frame& frame = ctx.input<Frame>("frame");
       const extension::SupportPlane* plane =
           ctx.has_input("plane") ? &ctx.input<extension::SupportPlane>("plane") : nullptr;
-      const Frame& frame = ctx.input<Frame>("frame");
-      std::string tracked;
-      if (ctx.has_input("tracks"))
-        tracked = cognitive::objects_json(ctx.input<std::vector<cognitive::Track>>("tracks"),
-                                          frame.pose.value_or(Pose::Identity()), track_probability);
-      ctx.output("result", matching::result_json(frame, segments, objects, plane, {}, tracked));
+      const bool tracked = ctx.has_input("tracks");  // the tracks are the objects: no judgement of this frame's own
+      const auto objects =
+          tracked ? std::vector<matching::RecognizedObject>{} : matching::interpret(*kb, ctx.input<matching::Lattice>("lattice"), io);
+      auto result = matching::detail::result_to_json(frame, ctx.input<std::vector<Segment>>("segments"), objects, plane, {});
+      if (tracked)
+        result["objects"] = cognitive::detail::tracks_to_json(ctx.input<std::vector<cognitive::Track>>("tracks"),
+                                                             frame.pose.value_or(Pose::Identity()), track_probability);
+      ctx.output("result", result.dump());
     });
   };
   return s;

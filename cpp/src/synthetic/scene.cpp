@@ -324,48 +324,28 @@ bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_
   return true;
 }
 
-/// A handle-like half torus standing on the table beside jar `jar_index`; false if no room.
+/// A handle-like torus beside jar `jar_index`; false if no room. Plain: a half ring standing on
+/// the table 1-2.5 cm from the jar, its plane through the jar's axis. Ambiguous: a full ring
+/// leaning on the jar at its mid-height, its plane turned 35-70 degrees from the radial plane.
 bool add_distractor(Scene& scene, Placer& placer, Rng& rng, int jar_index, bool ambiguous) {
   const Shape& body = scene.objects[jar_index].parts.front().second;
   const double Rj = body.radius;
   const double jx = body.point.x(), jy = body.point.y();
   const double a = rng.uniform(0.02, 0.03), minor = rng.uniform(0.004, 0.008);
-  if (ambiguous) {
-    // a ring leaning on the jar at its mid-height, its plane turned by beta from the radial plane
-    for (int attempt = 0; attempt < 40; ++attempt) {
-      const double phi = rng.uniform(0.0, 2 * kPi), beta = rng.uniform(35.0, 70.0) * kPi / 180.0;
-      const Vec3 u(std::cos(phi), std::sin(phi), 0.0), v = Vec3::UnitZ().cross(u);
-      const Vec3 e = std::cos(beta) * u + std::sin(beta) * v;  // the ring's in-plane horizontal direction
-      const double reach = Rj + rng.uniform(0.0, 0.003) + minor;  // its nearest point's distance to the axis
-      const double D = a * std::cos(beta) + std::sqrt(std::max(0.0, reach * reach - std::pow(a * std::sin(beta), 2)));
-      const double x = jx + D * u.x(), y = jy + D * u.y();
-      const double fr = a + minor;
-      if (std::abs(x) > placer.x_max - fr || std::abs(y) > placer.y_max - fr) continue;
-      if (!placer.free(x, y, fr, fr, jar_index)) continue;
-      SceneObject obj;
-      obj.model = "distractor";
-      obj.color = random_color(rng);
-      Shape t;
-      t.cls = "torus";
-      t.point = Vec3(x, y, body.point.z());
-      t.axis = e.cross(Vec3::UnitZ()).normalized();
-      t.axis2 = e;
-      t.radius = a;
-      t.minor_radius = minor;
-      t.arc_start = 0.0;
-      t.arc_end = 2 * kPi;
-      obj.parts.emplace_back("handle", t);
-      placer.taken.push_back({x, y, fr, int(scene.objects.size())});
-      scene.objects.push_back(std::move(obj));
-      return true;
-    }
-    return false;
-  }
   for (int attempt = 0; attempt < 40; ++attempt) {
-    const double gap = rng.uniform(0.01, 0.025);
+    const double gap = ambiguous ? 0.0 : rng.uniform(0.01, 0.025);  // (drawn first: scenes stay as they were)
     const double phi = rng.uniform(0.0, 2 * kPi);
     const Vec3 u(std::cos(phi), std::sin(phi), 0.0);
-    const double D = Rj + gap + minor + a;
+    Vec3 e = u;  // the ring's horizontal in-plane direction: angle 0 points away from the jar
+    double D = 0.0;  // its centre's distance to the jar's axis
+    if (ambiguous) {
+      const double beta = rng.uniform(35.0, 70.0) * kPi / 180.0;
+      e = std::cos(beta) * u + std::sin(beta) * Vec3::UnitZ().cross(u);
+      const double reach = Rj + rng.uniform(0.0, 0.003) + minor;  // its nearest point's distance to the axis
+      D = a * std::cos(beta) + std::sqrt(std::max(0.0, reach * reach - std::pow(a * std::sin(beta), 2)));
+    } else {
+      D = Rj + gap + minor + a;
+    }
     const double x = jx + D * u.x(), y = jy + D * u.y();
     const double fr = a + minor;
     if (std::abs(x) > placer.x_max - fr || std::abs(y) > placer.y_max - fr) continue;
@@ -375,13 +355,13 @@ bool add_distractor(Scene& scene, Placer& placer, Rng& rng, int jar_index, bool 
     obj.color = random_color(rng);
     Shape t;
     t.cls = "torus";
-    t.point = Vec3(x, y, 0.0);
-    t.axis = u.cross(Vec3::UnitZ()).normalized();
-    t.axis2 = u;  // angle 0 points away from the jar, angle pi towards it, pi/2 is up
+    t.point = Vec3(x, y, ambiguous ? body.point.z() : 0.0);
+    t.axis = e.cross(Vec3::UnitZ()).normalized();
+    t.axis2 = e;  // angle pi towards the jar, pi/2 is up
     t.radius = a;
     t.minor_radius = minor;
     t.arc_start = 0.0;
-    t.arc_end = kPi;
+    t.arc_end = ambiguous ? 2 * kPi : kPi;
     obj.parts.emplace_back("handle", t);
     placer.taken.push_back({x, y, fr, int(scene.objects.size())});
     scene.objects.push_back(std::move(obj));

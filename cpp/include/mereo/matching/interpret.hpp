@@ -45,13 +45,10 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
 /// {"frame", "source", "objects": [{"id", "model", "score", "posterior", "accepted", "parts":
 /// {role: {...}}, "excludes"}], "primitives": [...], "support_plane": {...} (when given),
 /// "timing_ms": {...} (when given)}.
-/// `objects_array`, when given, is written as "objects" instead (a JSON array: the tracked
-/// objects of cognitive::objects_json).
 std::string result_json(const Frame& frame, const std::vector<Segment>& segments,
                         const std::vector<RecognizedObject>& objects,
                         const extension::SupportPlane* plane = nullptr,
-                        const std::vector<std::pair<std::string, double>>& timing_ms = {},
-                        const std::string& objects_array = "");
+                        const std::vector<std::pair<std::string, double>>& timing_ms = {});
 
 /// One segment's parameters as a JSON object (class-specific fields, see DESIGN.md).
 std::string segment_json(const Segment& s);

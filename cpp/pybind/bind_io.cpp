@@ -13,7 +13,7 @@ using mereo::py_util::to_numpy;
 namespace {
 
 mereo::io::ReadOptions read_options(const py::object& intrinsics, double depth_scale, int frames,
-                                    bool noise, bool distractors) {
+                                    bool noise, const py::object& distractors) {
   mereo::io::ReadOptions o;
   if (py::isinstance<mereo::Intrinsics>(intrinsics))
     o.intrinsics = intrinsics.cast<mereo::Intrinsics>();
@@ -22,7 +22,16 @@ mereo::io::ReadOptions read_options(const py::object& intrinsics, double depth_s
   o.depth_scale = depth_scale;
   o.synthetic_frames = frames;
   o.synthetic_noise = noise;
-  o.synthetic_distractors = distractors;
+  // False / None: none; True or "beside": tori beside some jars; "leaning": rings leaning on jars
+  if (py::isinstance<py::str>(distractors)) {
+    const auto kind = distractors.cast<std::string>();
+    if (kind != "beside" && kind != "leaning")
+      throw py::value_error("distractors: '" + kind + "' is not one of False, True, 'beside', 'leaning'");
+    o.synthetic_distractors = kind == "beside";
+    o.synthetic_leaning_distractors = kind == "leaning";
+  } else {
+    o.synthetic_distractors = !distractors.is_none() && distractors.cast<bool>();
+  }
   return o;
 }
 
@@ -54,10 +63,11 @@ void bind_io(py::module_& m) {
 
   const char* kOptionsDoc =
       "intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre "
-      "(0 = the format's default); frames, noise, distractors: for synthetic:SEED.";
+      "(0 = the format's default); frames, noise, distractors: for synthetic:SEED (distractors: False, True or "
+      "'beside' for handle-like tori beside some jars, 'leaning' for rings leaning on jars).";
   m.def(
       "open",
-      [](py::object inputs, py::object intrinsics, double depth_scale, int frames, bool noise, bool distractors) {
+      [](py::object inputs, py::object intrinsics, double depth_scale, int frames, bool noise, py::object distractors) {
         std::vector<std::string> list;
         if (py::isinstance<py::str>(inputs) || py::hasattr(inputs, "__fspath__"))
           list.push_back(py::str(inputs));
@@ -71,7 +81,7 @@ void bind_io(py::module_& m) {
       (std::string("Opens files, folders or 'synthetic:SEED' as a Sequence. ") + kOptionsDoc).c_str());
   m.def(
       "read",
-      [](py::object input, py::object intrinsics, double depth_scale, bool noise, bool distractors) {
+      [](py::object input, py::object intrinsics, double depth_scale, bool noise, py::object distractors) {
         const auto o = read_options(intrinsics, depth_scale, 1, noise, distractors);
         const std::string path = py::str(input);
         py::gil_scoped_release release;

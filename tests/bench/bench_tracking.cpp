@@ -2,14 +2,17 @@
 // handle-like rings leaning on jars: from some views they pass for a mug's handle):
 // graphs/tabletop_tracking.yaml with the renderer's poses, and graphs/tabletop_odometry.yaml
 // with the poses estimated by the odometry node (OpenCV's RGB-D ICP
-// odometry, the reference of the poses being the renderer's). Per setting: false mug tracks
-// and how many are dropped within 5 frames, true mugs lost, id switches per 100 frames, the
-// median radius error of one view and after ten (eval_tracking.hpp), time per frame; for the
-// odometry, its error per frame against the true relative motion. The last line is one JSON
-// object.
+// odometry corrected against the table and the upright cylinders on it, the reference of the
+// poses being the renderer's). Per setting: false mug tracks and how many are dropped within 5
+// frames, true mugs lost, id switches per 100 frames, the median radius error of one view and
+// after ten (eval_tracking.hpp), time per frame. The poses: their error per frame against the
+// true relative motion and at the last frame against the first, for the odometry node and for
+// the anchor, OpenCV's RgbdICPOdometry alone (cognitive::Odometry without landmarks) on the same
+// frames. The last line is one JSON object.
 //
 //   bench_tracking            8 sequences (seeds 700-707) of 30 frames
 //   bench_tracking --quick    2 sequences of 12 frames (ctest)
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -18,6 +21,7 @@
 
 #include "bench_util.hpp"
 #include "eval_tracking.hpp"
+#include "mereo/cognitive/odometry.hpp"
 #include "mereo/graph/graph.hpp"
 #include "mereo/io/io.hpp"
 
@@ -32,7 +36,31 @@ struct Setting {
   bench::TrackingScore score;
   std::vector<double> ms;
   std::vector<double> drift_mm, drift_deg;  // odometry: per frame, against the true relative motion
+  std::vector<double> end_mm, end_deg;      // odometry: the last frame against the first
 };
+
+/// The poses' errors against the truth: per frame (relative motion) and at the last frame
+/// (relative to the first).
+void pose_errors(const std::vector<synthetic::SyntheticFrame>& seq, const std::vector<Pose>& poses, Setting& s) {
+  auto error = [&](std::size_t a, std::size_t b) {
+    const Pose truth = seq[a].truth.camera_pose.inverse() * seq[b].truth.camera_pose;
+    return Pose(truth.inverse() * (poses[a].inverse() * poses[b]));
+  };
+  for (std::size_t k = 1; k < poses.size(); ++k) {
+    const Pose err = error(k - 1, k);
+    s.drift_mm.push_back(1000 * err.translation().norm());
+    s.drift_deg.push_back(Eigen::AngleAxisd(err.linear()).angle() * 180 / M_PI);
+  }
+  const Pose end = error(0, poses.size() - 1);
+  s.end_mm.push_back(1000 * end.translation().norm());
+  s.end_deg.push_back(Eigen::AngleAxisd(end.linear()).angle() * 180 / M_PI);
+}
+
+double max_of(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+int over(const std::vector<double>& v, double limit) {
+  return int(std::count_if(v.begin(), v.end(), [&](double x) { return x > limit; }));
+}
 
 }  // namespace
 
@@ -41,7 +69,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--quick") quick = true;
   const int sequences = quick ? 2 : 8, frames = quick ? 12 : 30;
-  Setting given{"poses given"}, estimated{"poses by odometry"};
+  Setting given{"poses given"}, estimated{"poses by odometry"}, anchor{"OpenCV ICP alone"};
   for (Setting* s : {&given, &estimated}) {
     // the odometry's graph: the frames' poses estimated (they come without poses here, so the
     // support plane finds the table without gravity)
@@ -75,13 +103,14 @@ int main(int argc, char** argv) {
         // the current camera; drift then shows as misplaced tracks, not as a shifted world)
         for (std::size_t k = 0; k < seq.size(); ++k)
           world_from_track.push_back(seq[k].truth.camera_pose * poses[k].inverse());
-        for (std::size_t k = 1; k < poses.size(); ++k) {
-          const Pose truth = seq[k - 1].truth.camera_pose.inverse() * seq[k].truth.camera_pose;
-          const Pose est = poses[k - 1].inverse() * poses[k];
-          const Pose err = truth.inverse() * est;
-          s->drift_mm.push_back(1000 * err.translation().norm());
-          s->drift_deg.push_back(Eigen::AngleAxisd(err.linear()).angle() * 180 / M_PI);
-        }
+        pose_errors(seq, poses, *s);
+        // the anchor: OpenCV's odometry alone, frame to frame, on the same frames
+        cognitive::Odometry icp;
+        std::vector<Pose> icp_poses;
+        const double t1 = now_ms();
+        for (const auto& f : input) icp_poses.push_back(icp.update(f));
+        anchor.ms.push_back((now_ms() - t1) / frames);
+        pose_errors(seq, icp_poses, anchor);
       }
       bench::score_sequence(seq, tracks, "seed " + std::to_string(seed), s->score, world_from_track);
     }
@@ -99,9 +128,17 @@ int main(int argc, char** argv) {
   };
   line(given);
   line(estimated);
-  std::printf("\nodometry error per frame (against the true relative motion): median %.2f mm, %.3f deg; max %.1f mm\n",
-              median(estimated.drift_mm), median(estimated.drift_deg),
-              estimated.drift_mm.empty() ? 0.0 : *std::max_element(estimated.drift_mm.begin(), estimated.drift_mm.end()));
+  std::printf("\npose error per frame (against the true relative motion) and at the last frame (against the first):\n");
+  std::printf("%-20s %10s %12s %12s %10s %14s %14s\n", "poses", "ms/frame", "median mm", "median deg", "max mm",
+              "steps > 1 cm", "last frame mm");
+  for (const Setting* s : {&estimated, &anchor})
+    std::printf("%-20s %10.1f %12.2f %12.3f %10.1f %10d/%-3zu %14.1f\n", s->name.c_str(), median(s->ms),
+                median(s->drift_mm), median(s->drift_deg), max_of(s->drift_mm), over(s->drift_mm, 10.0),
+                s->drift_mm.size(), median(s->end_mm));
+  std::printf("ratio (OpenCV alone / odometry node): median error per frame %.2fx, max %.1fx, last frame %.1fx\n",
+              median(anchor.drift_mm) / std::max(1e-9, median(estimated.drift_mm)),
+              max_of(anchor.drift_mm) / std::max(1e-9, max_of(estimated.drift_mm)),
+              median(anchor.end_mm) / std::max(1e-9, median(estimated.end_mm)));
   for (const auto* s : {&given, &estimated})
     for (const auto& n : s->score.notes) std::printf("  %s: %s\n", s->name.c_str(), n.c_str());
   auto json = [](const Setting& s) {
@@ -117,8 +154,11 @@ int main(int argc, char** argv) {
     return std::string(buf);
   };
   std::printf("{\"bench\": \"tracking\", \"quick\": %s, \"sequences\": %d, \"frames\": %d, \"given\": %s, "
-              "\"odometry\": %s, \"odometry_median_mm\": %.3f, \"odometry_median_deg\": %.4f}\n",
+              "\"odometry\": %s, \"odometry_median_mm\": %.3f, \"odometry_median_deg\": %.4f, "
+              "\"odometry_max_mm\": %.2f, \"odometry_last_frame_mm\": %.2f, \"opencv_median_mm\": %.3f, "
+              "\"opencv_max_mm\": %.2f, \"opencv_last_frame_mm\": %.2f}\n",
               quick ? "true" : "false", sequences, frames, json(given).c_str(), json(estimated).c_str(),
-              median(estimated.drift_mm), median(estimated.drift_deg));
+              median(estimated.drift_mm), median(estimated.drift_deg), max_of(estimated.drift_mm),
+              median(estimated.end_mm), median(anchor.drift_mm), max_of(anchor.drift_mm), median(anchor.end_mm));
   return 0;
 }

@@ -52,7 +52,7 @@ Odometry::~Odometry() = default;
 Odometry::Odometry(Odometry&&) noexcept = default;
 Odometry& Odometry::operator=(Odometry&&) noexcept = default;
 
-Pose Odometry::update(const Frame& frame) {
+Pose Odometry::update(const Frame& frame, const std::vector<Segment>& segments, const std::optional<TablePlane>& table) {
   State& s = *state_;
   if (frame.depth.empty()) throw InputError("odometry: frame " + frame.id + " has no depth");
   const int H = frame.rows(), W = frame.cols();
@@ -85,6 +85,7 @@ Pose Odometry::update(const Frame& frame) {
     s.odometry->setMaxRotation(30);
     s.intrinsics = frame.intrinsics;
   }
+  const Pose previous = s.pose;
   if (s.started) {
     // a camera moves smoothly: the last motion is the first guess of this one; no motion is the
     // fallback, taken when the guess fails or aligns clearly fewer points (a planar table slides
@@ -97,7 +98,6 @@ Pose Odometry::update(const Frame& frame) {
       without = alignment(s.depth, depth, frame.intrinsics, plain);
     if (without >= 0 && (with_guess < 0 || with_guess < 0.8 * without)) Rt = plain, with_guess = without;
     if (with_guess >= 0) {
-      s.last_motion = Rt.clone();
       // dst_p = Rt * src_p: this camera's points in the previous camera's frame are Rt^-1 p
       Eigen::Matrix4d M;
       for (int r = 0; r < 4; ++r)
@@ -106,6 +106,21 @@ Pose Odometry::update(const Frame& frame) {
     } else {
       ++lost_;
     }
+  }
+  fix_ = LandmarkFix{};
+  fix_.camera_to_world = s.pose;
+  if (table) {
+    fix_ = locate(map_, *table, segments, s.pose, options_.landmarks);
+    s.pose = fix_.camera_to_world;
+    if (!map_.table || (fix_.plane && (map_.landmarks.empty() || fix_.matched >= 1)))
+      add_to_map(map_, *table, segments, s.pose, options_.landmarks);
+  }
+  if (s.started) {
+    // the motion taken (corrected or not) is the next frame's first guess
+    const Pose motion = s.pose.inverse() * previous;
+    s.last_motion = cv::Mat(4, 4, CV_64F);
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) s.last_motion.at<double>(r, c) = motion.matrix()(r, c);
   }
   s.started = true;
   s.gray = gray, s.depth = depth, s.mask = mask;

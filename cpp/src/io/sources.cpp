@@ -225,6 +225,7 @@ void open_synthetic(Sequence& seq, const std::string& input, const ReadOptions& 
   synthetic::SceneOptions so;
   so.noise = o.synthetic_noise;
   so.distractors = o.synthetic_distractors;
+  so.ambiguous_distractors = o.synthetic_leaning_distractors;
   if (o.intrinsics) so.intrinsics = *o.intrinsics;
   auto scene = std::make_shared<synthetic::Scene>(synthetic::generate_scene(seed, so));
   for (int i = 0; i < o.synthetic_frames; ++i) {

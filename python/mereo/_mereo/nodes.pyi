@@ -122,10 +122,12 @@ def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     """
 def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
     """
-    Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world).
+    Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world), corrected against the table and the upright cylinders on it when those are connected.
     
     Inputs:
         frame (Frame): an RGB-D frame
+        plane (SupportPlane, optional): the frame's table: the landmarks' plane (with segments)
+        segments (Segments, optional): the frame's segments: its upright cylinders are landmarks
     Outputs:
         frame (Frame): the same frame with its estimated pose
     Options:
@@ -183,7 +185,7 @@ def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
     Options:
         file (str, default ): the model file of match_models (empty: the shipped models)
         max_distance (float, default 0.03, 0.001..1): association: body centres, metres
-        part_tolerance (float, default 0.015, 0.001..1): a part stays put relative to its body
+        part_tolerance (float, default 0.01, 0.001..1): a part stays put relative to its body
         max_missed (int, default 30, 1..100000): frames unseen before a track is dropped
         report (float, default 0.5, 0..1): probability at which a track is reported
         drop (float, default 0.1, 0..1): probability below which a track is dropped

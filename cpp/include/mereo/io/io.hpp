@@ -25,7 +25,8 @@ struct ReadOptions {
   /// "synthetic:SEED": number of frames (the camera orbits the table), and noise on/off.
   int synthetic_frames = 1;
   bool synthetic_noise = true;
-  bool synthetic_distractors = false;
+  bool synthetic_distractors = false;          ///< handle-like tori beside some jars
+  bool synthetic_leaning_distractors = false;  ///< rings leaning on jars: a handle from some views
 };
 
 /// A sequence of frames loaded lazily, in order: each entry knows its id, the file (or

@@ -69,7 +69,16 @@ TEST(Tracking, ConsistentPartsKeepOneIdAndTheFilterBeatsOneView) {
   EXPECT_LT((tracker.tracks()[0].parts[0].world.point - centre).head<2>().norm(), 0.002);
 }
 
-TEST(Tracking, PartsDriftingApartOrAContradictedBodyAreDropped) {
+namespace {
+/// Whether `tracker` reports a track of `id` (all when -1) at its `report` probability.
+bool reported(const cognitive::Tracker& tracker, int id = -1) {
+  for (const auto& t : tracker.tracks())
+    if ((id < 0 || t.id == id) && t.probability() >= tracker.options().report) return true;
+  return false;
+}
+}  // namespace
+
+TEST(Tracking, PartsDriftingApartOrAContradictedBodyAreRejected) {
   std::mt19937_64 rng(2);
   const Eigen::Vector3d centre(0.0, 0.1, 0.05);
   // a ring beside a jar: from each view the "handle" sits somewhere else relative to the body
@@ -78,10 +87,18 @@ TEST(Tracking, PartsDriftingApartOrAContradictedBodyAreDropped) {
   for (int k = 0; k < 10 && dropped_at < 0; ++k) {
     const Eigen::Vector3d shift(0.0, 0.03 * std::sin(0.9 * k), 0.02 * std::cos(0.7 * k));
     drifting.update({mug_seen(orbit(k), centre, rng, 0.0005, shift)}, orbit(k));
-    if (drifting.tracks().empty()) dropped_at = k;
+    if (!reported(drifting)) dropped_at = k;
   }
   ASSERT_GE(dropped_at, 1);
   EXPECT_LE(dropped_at, 5);
+  // rejected, it is held with the evidence against it: a next view that supports it does not
+  // start it afresh (a new track would be reported at once)
+  const int id = drifting.tracks().at(0).id;
+  const int k = dropped_at + 1;
+  drifting.update({mug_seen(orbit(k), centre, rng, 0.0005, Eigen::Vector3d(0, -0.02, 0.01))}, orbit(k));
+  ASSERT_EQ(drifting.tracks().size(), 1u);
+  EXPECT_EQ(drifting.tracks()[0].id, id);
+  EXPECT_FALSE(reported(drifting));
   // a body taken for a mug once, then for a jar from the next views
   cognitive::Tracker contradicted;
   contradicted.update({mug_seen(orbit(0), centre, rng, 0.0005)}, orbit(0));
@@ -90,14 +107,26 @@ TEST(Tracking, PartsDriftingApartOrAContradictedBodyAreDropped) {
   int frames = 0;
   for (int k = 1; k <= 5; ++k) {
     contradicted.update({mug_seen(orbit(k), centre, rng, 0.0005, {}, "jar")}, orbit(k));
-    bool mug_alive = false;
-    for (const auto& t : contradicted.tracks()) mug_alive = mug_alive || t.id == mug_id;
-    if (!mug_alive) break;
+    if (!reported(contradicted, mug_id)) break;
     ++frames;
   }
   EXPECT_LE(frames, 4);
-  ASSERT_FALSE(contradicted.dropped().empty());
-  EXPECT_EQ(contradicted.dropped()[0].first, mug_id);
+}
+
+TEST(Tracking, APartFirstFittedOffIsReanchoredAndTheTrackKeepsItsId) {
+  // the first view fits the handle 2 cm off; every later view sees it where it is
+  cognitive::Tracker tracker;
+  std::mt19937_64 rng(4);
+  const Eigen::Vector3d centre(0.02, 0.03, 0.05);
+  tracker.update({mug_seen(orbit(0), centre, rng, 0.0005, Eigen::Vector3d(0, 0.02, 0))}, orbit(0));
+  const int id = tracker.tracks().at(0).id;
+  for (int k = 1; k < 8; ++k) tracker.update({mug_seen(orbit(k), centre, rng, 0.0005)}, orbit(k));
+  ASSERT_EQ(tracker.tracks().size(), 1u);
+  EXPECT_EQ(tracker.tracks()[0].id, id);
+  EXPECT_TRUE(reported(tracker, id));
+  const auto* handle = tracker.tracks()[0].part("handle");
+  ASSERT_NE(handle, nullptr);
+  EXPECT_LT((handle->world.point - (centre + Eigen::Vector3d(0.055, 0, 0))).norm(), 0.003);
 }
 
 TEST(Tracking, UnseenTracksDecayAndGo) {
@@ -133,6 +162,33 @@ TEST(TrackingGraph, OrderedNodeGivesTheSameTracksInBothModes) {
   const auto last = nlohmann::json::parse(lines[0].back());
   ASSERT_FALSE(last["objects"].empty());
   for (const auto& o : last["objects"]) EXPECT_TRUE(o.contains("track"));
+}
+
+TEST(TrackingGraph, RingsLeaningOnJarsAreDroppedAndMugsKeepTheirTracks) {
+  // the orbit of seed 700: a ring leaning on a jar passes for a mug's handle from several views
+  graph::Graph g = graph::Graph::load(std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop_tracking.yaml");
+  bench::TrackingScore score;
+  for (std::uint64_t seed : {700, 702}) {
+    synthetic::SceneOptions so;
+    so.ambiguous_distractors = true;
+    const auto seq = synthetic::render_sequence(seed, 30, so);
+    std::vector<Frame> frames;
+    for (const auto& f : seq) frames.push_back(f.frame);
+    graph::RunOptions o;
+    o.keep = {"tracks.tracks"};
+    std::vector<std::vector<cognitive::Track>> tracks;
+    for (auto& r : g.run_all(graph::FrameSource::recorded(frames), o))
+      tracks.push_back(r.outputs.at("tracks.tracks").get<std::vector<cognitive::Track>>());
+    bench::score_sequence(seq, tracks, "seed " + std::to_string(seed), score);
+  }
+  for (const auto& n : score.notes) std::printf("[ tracking ] %s\n", n.c_str());
+  std::printf("[ tracking ] %d false mug reports, %d dropped within 5 frames; %d/%d mugs lost, %d id switches\n",
+              score.false_mugs, score.false_mugs_dropped_in_5, score.true_mugs_lost, score.true_mugs, score.id_switches);
+  EXPECT_GE(score.false_mugs, 1);  // the scenes do fool single views
+  EXPECT_GE(score.false_mugs_dropped_in_5, 0.9 * score.false_mugs);
+  EXPECT_GE(score.true_mugs, 2);
+  EXPECT_EQ(score.true_mugs_lost, 0);
+  EXPECT_EQ(score.id_switches, 0);
 }
 
 TEST(Odometry, FollowsTheOrbitingCamera) {

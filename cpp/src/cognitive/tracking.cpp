@@ -99,7 +99,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     }
     t.seen = seen;
     if (!seen) {
-      t.log_odds *= o.decay;
+      if (t.log_odds > 0) t.log_odds *= o.decay;
       ++t.missed;
       continue;
     }
@@ -116,7 +116,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         const double along = rel.dot(ray), lateral = (rel - ray * along).norm();
         hidden = hidden || (along > 0 && lateral < track_body(t).radius);
       }
-      if (!hidden) t.log_odds += o.contradicted;
+      if (!hidden) t.log_odds = std::max(o.floor, t.log_odds + o.contradicted);
       continue;
     }
     const Observation& ob = world[support];
@@ -127,6 +127,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     const Segment& body_now = *body_of(ob);
     // parts: consistent with the body where the track holds them (fused), or drifted away
     std::vector<const Segment*> fuse(t.parts.size(), nullptr);
+    std::vector<bool> reanchor(t.parts.size(), false);
     for (std::size_t p = 0; p < t.parts.size(); ++p) {
       const int k = part_index(ob, t.parts[p].role);
       if (k < 0) continue;
@@ -137,18 +138,31 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         fuse[p] = &seen_part;
         continue;
       }
-      const double moved = (offset(seen_part, body_now) - offset(t.parts[p].world, track_body(t))).norm();
-      if (moved <= o.part_tolerance) {
+      TrackedPart& held = t.parts[p];
+      const Eigen::Vector3d now = offset(seen_part, body_now);
+      if ((now - offset(held.world, track_body(t))).norm() <= o.part_tolerance) {
         delta += o.consistent;
         fuse[p] = &seen_part;
+        held.moved_to.reset();
+      } else if (held.moved_to && (now - *held.moved_to).norm() <= o.part_tolerance) {
+        // two views in a row agree on a new place: the part was first fitted off; re-anchor it
+        // there (its filter restarts from this view), the penalties already taken stay
+        held.world = seen_part;
+        held.moved_to.reset();
+        reanchor[p] = true;
       } else {
         delta += o.drifted;
+        held.moved_to = now;
       }
     }
-    t.log_odds = std::clamp(t.log_odds + delta, -20.0, 20.0);
+    t.log_odds = std::clamp(t.log_odds + delta, o.floor, 20.0);
     // Kalman update of the parts that hold (static model: the prediction only adds process noise)
     const double r = std::pow(o.measurement_noise * depth[support] * depth[support], 2);
     for (std::size_t p = 0; p < t.parts.size(); ++p) {
+      if (reanchor[p]) {
+        t.x.segment<kPerPart>(kPerPart * p) = params(t.parts[p].world);
+        t.P.segment<kPerPart>(kPerPart * p).setConstant(r);
+      }
       if (!fuse[p]) continue;
       const Segment& m = *fuse[p];
       auto z = params(m);
@@ -178,10 +192,10 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
       w.inliers = m.inliers;
     }
   }
-  // drop what the views no longer support, or what has been out of view too long
+  // drop what has been out of view too long (rejected hypotheses in view are held)
   std::vector<Track> kept;
   for (Track& t : tracks_) {
-    if (t.probability() < o.drop || t.missed > o.max_missed) {
+    if (t.missed > o.max_missed) {
       dropped_.push_back({t.id, frame_});
       continue;
     }

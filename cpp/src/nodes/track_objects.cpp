@@ -25,7 +25,7 @@ graph::NodeSpec track_objects_node() {
   const cognitive::TrackOptions def;
   graph::NodeSpec s;
   s.kind = "track_objects";
-  s.doc = "Object hypotheses tracked across frames (world frame): rescored per view, Kalman-refined, dropped when "
+  s.doc = "Object hypotheses tracked across frames (world frame): rescored per view, Kalman-refined, rejected when "
           "their parts drift apart; stable track ids.";
   s.inputs = {{"frame", "Frame", "the frame; its pose (camera to world) places the hypotheses"},
               {"segments", "Segments", "the frame's segments"},
@@ -37,7 +37,6 @@ graph::NodeSpec track_objects_node() {
       {"part_tolerance", OptionType::Double, def.part_tolerance, 0.001, 1, {}, "a part stays put relative to its body"},
       {"max_missed", OptionType::Int, (long long)def.max_missed, 1, 100000, {}, "frames unseen before a track is dropped"},
       {"report", OptionType::Double, def.report, 0, 1, {}, "probability at which a track is reported"},
-      {"drop", OptionType::Double, def.drop, 0, 1, {}, "probability below which a track is dropped"},
   };
   s.ordered = true;
   s.make = [](const graph::Options& o) {
@@ -47,7 +46,6 @@ graph::NodeSpec track_objects_node() {
     to.part_tolerance = o.get_double("part_tolerance");
     to.max_missed = int(o.get_int("max_missed"));
     to.report = o.get_double("report");
-    to.drop = o.get_double("drop");
     auto tracker = std::make_shared<cognitive::Tracker>(to);  // one per run: the body is made per run
     return graph::NodeBody([kb, tracker](graph::NodeContext& ctx) {
       const auto& segments = ctx.input<std::vector<Segment>>("segments");

@@ -174,7 +174,7 @@ def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
     """
 def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
     """
-    Object hypotheses tracked across frames (world frame): rescored per view, Kalman-refined, dropped when their parts drift apart; stable track ids.
+    Object hypotheses tracked across frames (world frame): rescored per view, Kalman-refined, rejected when their parts drift apart; stable track ids.
     
     Inputs:
         frame (Frame): the frame; its pose (camera to world) places the hypotheses
@@ -188,5 +188,4 @@ def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
         part_tolerance (float, default 0.01, 0.001..1): a part stays put relative to its body
         max_missed (int, default 30, 1..100000): frames unseen before a track is dropped
         report (float, default 0.5, 0..1): probability at which a track is reported
-        drop (float, default 0.1, 0..1): probability below which a track is dropped
     """

@@ -10,17 +10,23 @@
 //    by `support * (2 score - 1)`, and each of its other parts adds `consistent` when it stays
 //    where the track holds it relative to the body (within `part_tolerance`) or `drifted`
 //    (negative) when it moved away from its partner (a plate's rim taken for a handle, a ring
-//    beside a jar seen from another side); a body seen but taken for something else adds
-//    `contradicted` (negative), unless one of the track's other parts is hidden behind the body
-//    (farther along the ray, within its silhouette: a mug with its handle at the back looks
-//    like a cup); a track not seen at all decays towards undecided by `decay`
-//    per frame and is dropped after `max_missed` frames;
+//    leaning on a jar seen from another side); a part seen in two views in a row at the same new
+//    place is re-anchored there (the first fit was off), the penalties taken stay; a body seen
+//    but taken for something else adds `contradicted` (negative), unless one of the track's
+//    other parts is hidden behind the body (farther along the ray, within its silhouette: a mug
+//    with its handle at the back looks like a cup); a track not seen at all decays towards
+//    undecided by `decay` per frame (belief only: the evidence against it is kept);
+//  - rejected hypotheses are not forgotten: a track below `report` is not reported but is held,
+//    with the evidence against it (down to `floor`), as long as its body stays in view, so that a
+//    later view that happens to support it does not start it afresh; tracks unseen for
+//    `max_missed` frames are dropped;
 //  - a Kalman filter per track over its parts' parameters (positions, radii, height), world
 //    frame, static objects: measurement noise grows with depth (z^2), a small process noise
 //    absorbs pose errors.
 // Accepted observations that match no track start new tracks with stable, increasing ids.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,10 +45,10 @@ struct TrackOptions {
   double consistent = 0.5;              ///< per part that stayed put
   double drifted = -2.5;                ///< per part that moved away from its body
   double contradicted = -2.0;           ///< body seen, the model not accepted for it
-  double decay = 0.9;                   ///< log-odds factor per frame unseen
+  double decay = 0.9;                   ///< factor per frame unseen on a positive log-odds
+  double floor = -10.0;                 ///< the log-odds held against a rejected hypothesis at most
   int max_missed = 30;                  ///< frames unseen before a track is dropped
   double report = 0.5;                  ///< probability at which a track is reported
-  double drop = 0.1;                    ///< probability below which a track is dropped
   double measurement_noise = 0.002;     ///< sigma of a measured parameter at 1 m (grows as z^2)
   double process_noise = 0.0003;        ///< sigma per frame
 };
@@ -62,6 +68,9 @@ struct TrackedPart {
   Segment world;
   int segment = -1;  ///< its segment in the last frame, -1 when not seen there
   Segment observed;  ///< as the last supporting view measured it (world frame, unfiltered)
+  /// Where the last view that drifted saw it, relative to the body (world frame); a next view
+  /// that agrees re-anchors the part there.
+  std::optional<Eigen::Vector3d> moved_to;
 };
 
 struct Track {
@@ -84,12 +93,13 @@ struct Track {
 class Tracker {
  public:
   explicit Tracker(TrackOptions options = {});
-  /// One frame: its observations (camera frame) and the camera-to-world pose. Returns the live
-  /// tracks (dropped ones are gone), by id.
+  /// One frame: its observations (camera frame) and the camera-to-world pose. Returns the held
+  /// tracks, by id: reported ones (probability >= `report`) and rejected ones still in view.
   const std::vector<Track>& update(const std::vector<Observation>& observations, const Pose& camera_to_world);
   const std::vector<Track>& tracks() const { return tracks_; }
   const TrackOptions& options() const { return options_; }
-  /// Every id ever dropped, with the frame it was dropped at (frames counted from 0).
+  /// Every id ever dropped (unseen for `max_missed` frames), with the frame it was dropped at
+  /// (frames counted from 0).
   const std::vector<std::pair<int, int>>& dropped() const { return dropped_; }
 
  private:

@@ -228,6 +228,9 @@ TEST(Tum, AssociatesByTimestampWithPoses) {
   ASSERT_TRUE(g.pose.has_value());
   EXPECT_NEAR(g.pose->translation().z(), 4.0, 1e-12);
   EXPECT_NEAR(g.depth(10, 20), f.depth(10, 20), 0.5 / 5000 + 1e-6);
+  // a pose line with a value missing: the file and its line
+  std::ofstream(dir / "groundtruth.txt") << "# tx ty tz qx qy qz qw\n1.001 1 2 3 0 0 0 1\n1.034 1 2 4 0 0 0.7071068\n";
+  expect_error([&] { mereo::io::open({dir.string()}, o); }, {"groundtruth.txt:3", "qw"});
 }
 
 TEST(Open, UnknownInputsAreClearErrors) {

@@ -230,3 +230,19 @@ def test_poses_by_odometry_give_the_same_tracks(tmp_path):
             pa, pb = (np.array(m[t]["parts"]["body"]["point"]) for m in (mugs_a, mugs_b))
             assert np.linalg.norm(pa - pb) < 0.01
     assert any(mugs for mugs in ([o for o in r["objects"] if o["model"] == "mug"] for r in runs["given"]))
+    # each line carries its camera pose (camera to world): the renderer's, or the odometry's whose
+    # world is the first camera; relative to the first frame they agree
+    def pose(r):
+        x, y, z, w = r["camera_pose"]["quaternion"]
+        T = np.eye(4)
+        T[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+        T[:3, 3] = r["camera_pose"]["translation"]
+        return T
+    given0, est0 = pose(runs["given"][0]), pose(runs["odometry"][0])
+    np.testing.assert_allclose(est0, np.eye(4), atol=1e-9)
+    for a, b in zip(runs["given"][1:], runs["odometry"][1:]):
+        truth = np.linalg.inv(given0) @ pose(a)
+        assert np.linalg.norm(truth[:3, 3]) > 0.01  # the camera moves
+        assert np.linalg.norm(truth[:3, 3] - (np.linalg.inv(est0) @ pose(b))[:3, 3]) < 0.01

@@ -41,7 +41,8 @@ int alignment(const cv::Mat& src, const cv::Mat& dst, const Intrinsics& K, const
 struct Odometry::State {
   cv::Ptr<cv::rgbd::RgbdICPOdometry> odometry;
   Intrinsics intrinsics;
-  cv::Mat gray, depth, mask;
+  cv::Mat depth;                          // the previous frame's depth (to score alignments)
+  cv::Ptr<cv::rgbd::OdometryFrame> frame;  // the previous frame, its pyramids and normals cached
   Pose pose = Pose::Identity();
   cv::Mat last_motion;  // the previous frame-to-frame motion: the next one's first guess
   bool started = false;
@@ -85,6 +86,10 @@ Pose Odometry::update(const Frame& frame, const std::vector<Segment>& segments, 
     s.odometry->setMaxRotation(30);
     s.intrinsics = frame.intrinsics;
   }
+  // the frame's pyramids and normals, computed once for both alignments below and kept for the
+  // next frame's
+  cv::Ptr<cv::rgbd::OdometryFrame> current = cv::rgbd::OdometryFrame::create(gray, depth, mask);
+  s.odometry->prepareFrameCache(current, cv::rgbd::OdometryFrame::CACHE_ALL);
   const Pose previous = s.pose;
   if (s.started) {
     // a camera moves smoothly: the last motion is the first guess of this one; no motion is the
@@ -92,9 +97,9 @@ Pose Odometry::update(const Frame& frame, const std::vector<Segment>& segments, 
     // along itself, so a few more aligned points do not make a motion right)
     cv::Mat Rt, plain;
     int with_guess = -1, without = -1;
-    if (!s.last_motion.empty() && s.odometry->compute(s.gray, s.depth, s.mask, gray, depth, mask, Rt, s.last_motion))
+    if (!s.last_motion.empty() && s.odometry->compute(s.frame, current, Rt, s.last_motion))
       with_guess = alignment(s.depth, depth, frame.intrinsics, Rt);
-    if (s.odometry->compute(s.gray, s.depth, s.mask, gray, depth, mask, plain))
+    if (s.odometry->compute(s.frame, current, plain))
       without = alignment(s.depth, depth, frame.intrinsics, plain);
     if (without >= 0 && (with_guess < 0 || with_guess < 0.8 * without)) Rt = plain, with_guess = without;
     if (with_guess >= 0) {
@@ -123,7 +128,7 @@ Pose Odometry::update(const Frame& frame, const std::vector<Segment>& segments, 
       for (int c = 0; c < 4; ++c) s.last_motion.at<double>(r, c) = motion.matrix()(r, c);
   }
   s.started = true;
-  s.gray = gray, s.depth = depth, s.mask = mask;
+  s.depth = depth, s.frame = current;
   return s.pose;
 }
 

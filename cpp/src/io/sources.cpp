@@ -98,6 +98,7 @@ bool split_pair(const fs::path& path, std::string& stem, std::string& color, std
 struct Stamped {
   double t;
   std::string value;
+  int line = 0;  ///< in its list file
 };
 
 std::vector<Stamped> read_list(const fs::path& p) {
@@ -112,6 +113,7 @@ std::vector<Stamped> read_list(const fs::path& p) {
     if (line.empty() || line[0] == '#') continue;
     std::istringstream s(line);
     Stamped e;
+    e.line = lineno;
     if (!(s >> e.t)) throw InputError(p.string() + ":" + std::to_string(lineno) + ": expected 'timestamp ...'");
     std::getline(s >> std::ws, e.value);
     if (e.value.empty()) throw InputError(p.string() + ":" + std::to_string(lineno) + ": missing value after the timestamp");
@@ -145,7 +147,8 @@ void open_tum(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
       std::istringstream s(g->value);
       double tx, ty, tz, qx, qy, qz, qw;
       if (!(s >> tx >> ty >> tz >> qx >> qy >> qz >> qw))
-        throw InputError((dir / "groundtruth.txt").string() + ": bad line at time " + std::to_string(g->t));
+        throw InputError((dir / "groundtruth.txt").string() + ":" + std::to_string(g->line) +
+                         ": expected 'timestamp tx ty tz qx qy qz qw'");
       Pose P = Pose::Identity();
       P.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
       P.translation() = Eigen::Vector3d(tx, ty, tz);

@@ -6,6 +6,8 @@
 #include <map>
 #include <set>
 
+#include <Eigen/Geometry>
+
 #include "matching/json.hpp"
 
 namespace mereo::matching {
@@ -147,6 +149,12 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
   if (plane && plane->inlier_count > 0)
     j["support_plane"] = {{"normal", Json::array({plane->normal.x(), plane->normal.y(), plane->normal.z()})},
                           {"d", plane->d}, {"inliers", plane->inlier_count}, {"rms", plane->rms}};
+  if (frame.pose) {  // camera to world, as TUM's groundtruth.txt writes it
+    const Eigen::Quaterniond q(frame.pose->linear());
+    const Eigen::Vector3d t = frame.pose->translation();
+    j["camera_pose"] = {{"translation", Json::array({t.x(), t.y(), t.z()})},
+                        {"quaternion", Json::array({q.x(), q.y(), q.z(), q.w()})}};
+  }
   for (const auto& [node, ms] : timing_ms) j["timing_ms"][node] = ms;
   return j;
 }

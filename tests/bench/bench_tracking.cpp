@@ -12,6 +12,8 @@
 //
 //   bench_tracking            16 sequences (seeds 700-715) of 30 frames
 //   bench_tracking --quick    2 sequences of 12 frames (ctest)
+//   bench_tracking --first N  16 sequences from seed N (held-out scenes)
+//   bench_tracking --given-only  the renderer's poses only (no odometry)
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -65,12 +67,25 @@ int over(const std::vector<double>& v, double limit) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
-  for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]) == "--quick") quick = true;
+  bool quick = false, given_only = false;
+  std::uint64_t first = 700;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") {
+      quick = true;
+    } else if (a == "--given-only") {
+      given_only = true;
+    } else if (a == "--first" && i + 1 < argc) {
+      first = std::stoull(argv[++i]);
+    } else {
+      std::fprintf(stderr, "usage: bench_tracking [--quick] [--first SEED] [--given-only]\n");
+      return 2;
+    }
+  }
   const int sequences = quick ? 2 : 16, frames = quick ? 12 : 30;
   Setting given{"poses given"}, estimated{"poses by odometry"}, anchor{"OpenCV ICP alone"};
   for (Setting* s : {&given, &estimated}) {
+    if (given_only && s == &estimated) continue;
     // the odometry's graph: the frames' poses estimated (they come without poses here, so the
     // support plane finds the table without gravity)
     graph::Graph g = graph::Graph::load(std::string(MEREO_SOURCE_DIR) +
@@ -78,7 +93,7 @@ int main(int argc, char** argv) {
     for (int q = 0; q < sequences; ++q) {
       synthetic::SceneOptions so;
       so.ambiguous_distractors = true;
-      const std::uint64_t seed = 700 + std::uint64_t(q);
+      const std::uint64_t seed = first + std::uint64_t(q);
       const auto seq = synthetic::render_sequence(seed, frames, so);
       std::vector<Frame> input;
       for (const auto& f : seq) {
@@ -115,8 +130,8 @@ int main(int argc, char** argv) {
       bench::score_sequence(seq, tracks, "seed " + std::to_string(seed), s->score, world_from_track);
     }
   }
-  std::printf("bench_tracking: %d sequences (seeds 700-%d) of %d frames, rings leaning on jars\n\n", sequences,
-              700 + sequences - 1, frames);
+  std::printf("bench_tracking: %d sequences (seeds %d-%d) of %d frames, rings leaning on jars\n\n", sequences,
+              int(first), int(first) + sequences - 1, frames);
   std::printf("%-20s %10s %16s %14s %10s %12s %14s %14s\n", "poses", "ms/frame", "views fooled", "false mugs",
               "dropped<=5", "mugs lost", "switches/100", "radius mm 1|10");
   auto line = [](const Setting& s) {
@@ -156,11 +171,11 @@ int main(int argc, char** argv) {
                   median(c.single_view_radius_mm), median(c.fused_radius_mm));
     return std::string(buf);
   };
-  std::printf("{\"bench\": \"tracking\", \"quick\": %s, \"sequences\": %d, \"frames\": %d, \"given\": %s, "
+  std::printf("{\"bench\": \"tracking\", \"quick\": %s, \"first_seed\": %d, \"sequences\": %d, \"frames\": %d, \"given\": %s, "
               "\"odometry\": %s, \"odometry_median_mm\": %.3f, \"odometry_median_deg\": %.4f, "
               "\"odometry_max_mm\": %.2f, \"odometry_last_frame_mm\": %.2f, \"opencv_median_mm\": %.3f, "
               "\"opencv_max_mm\": %.2f, \"opencv_last_frame_mm\": %.2f}\n",
-              quick ? "true" : "false", sequences, frames, json(given).c_str(), json(estimated).c_str(),
+              quick ? "true" : "false", int(first), sequences, frames, json(given).c_str(), json(estimated).c_str(),
               median(estimated.drift_mm), median(estimated.drift_deg), max_of(estimated.drift_mm),
               median(estimated.end_mm), median(anchor.drift_mm), max_of(anchor.drift_mm), median(anchor.end_mm));
   return 0;

@@ -12,7 +12,8 @@
 //
 //   bench_tracking            16 sequences (seeds 700-715) of 30 frames
 //   bench_tracking --quick    2 sequences of 12 frames (ctest)
-//   bench_tracking --first N  16 sequences from seed N (held-out scenes)
+//   bench_tracking --first N  16 sequences from seed N (the tracker's settings were chosen on
+//                             700-715; 716-731 are held out and show what is left to do)
 //   bench_tracking --given-only  the renderer's poses only (no odometry)
 #include <algorithm>
 #include <cstdio>

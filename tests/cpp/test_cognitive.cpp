@@ -62,7 +62,9 @@ TEST(Tracking, ConsistentPartsKeepOneIdAndTheFilterBeatsOneView) {
     ASSERT_EQ(tracks.size(), 1u);
     if (id < 0) id = tracks[0].id;
     EXPECT_EQ(tracks[0].id, id);
-    EXPECT_GE(tracks[0].probability(), 0.5);
+    // one view does not make a report; the second that agrees does
+    if (k == 0) EXPECT_LT(tracks[0].probability(), 0.5);
+    else EXPECT_GE(tracks[0].probability(), 0.5);
     if (k >= 10) fused.push_back(std::abs(tracks[0].parts[0].world.radius - 0.04));
   }
   EXPECT_LT(bench::median(fused), 0.5 * bench::median(single));
@@ -82,30 +84,35 @@ TEST(Tracking, PartsDriftingApartOrAContradictedBodyAreRejected) {
   std::mt19937_64 rng(2);
   const Eigen::Vector3d centre(0.0, 0.1, 0.05);
   // a ring beside a jar: from each view the "handle" sits somewhere else relative to the body
+  // (the first two views agree: it is reported; then the ring is seen from elsewhere)
   cognitive::Tracker drifting;
-  int dropped_at = -1;
+  int first_reported = -1, dropped_at = -1;
   for (int k = 0; k < 10 && dropped_at < 0; ++k) {
-    const Eigen::Vector3d shift(0.0, 0.03 * std::sin(0.9 * k), 0.02 * std::cos(0.7 * k));
+    const Eigen::Vector3d shift =
+        k < 2 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.0, 0.03 * std::sin(0.9 * k), 0.02 * std::cos(0.7 * k));
     drifting.update({mug_seen(orbit(k), centre, rng, 0.0005, shift)}, orbit(k));
-    if (!reported(drifting)) dropped_at = k;
+    if (reported(drifting) && first_reported < 0) first_reported = k;
+    if (!reported(drifting) && first_reported >= 0) dropped_at = k;
   }
-  ASSERT_GE(dropped_at, 1);
-  EXPECT_LE(dropped_at, 5);
+  ASSERT_EQ(first_reported, 1);
+  ASSERT_GE(dropped_at, 2);
+  EXPECT_LE(dropped_at - first_reported, 5);
   // rejected, it is held with the evidence against it: a next view that supports it does not
-  // start it afresh (a new track would be reported at once)
+  // start it afresh
   const int id = drifting.tracks().at(0).id;
   const int k = dropped_at + 1;
   drifting.update({mug_seen(orbit(k), centre, rng, 0.0005, Eigen::Vector3d(0, -0.02, 0.01))}, orbit(k));
   ASSERT_EQ(drifting.tracks().size(), 1u);
   EXPECT_EQ(drifting.tracks()[0].id, id);
   EXPECT_FALSE(reported(drifting));
-  // a body taken for a mug once, then for a jar from the next views
+  // a body taken for a mug from two views, then for a jar from the next views
   cognitive::Tracker contradicted;
-  contradicted.update({mug_seen(orbit(0), centre, rng, 0.0005)}, orbit(0));
+  for (int k = 0; k < 2; ++k) contradicted.update({mug_seen(orbit(k), centre, rng, 0.0005)}, orbit(k));
   ASSERT_EQ(contradicted.tracks().size(), 1u);
   const int mug_id = contradicted.tracks()[0].id;
+  ASSERT_TRUE(reported(contradicted, mug_id));
   int frames = 0;
-  for (int k = 1; k <= 5; ++k) {
+  for (int k = 2; k <= 7; ++k) {
     contradicted.update({mug_seen(orbit(k), centre, rng, 0.0005, {}, "jar")}, orbit(k));
     if (!reported(contradicted, mug_id)) break;
     ++frames;
@@ -182,9 +189,11 @@ TEST(TrackingGraph, RingsLeaningOnJarsAreDroppedAndMugsKeepTheirTracks) {
     bench::score_sequence(seq, tracks, "seed " + std::to_string(seed), score);
   }
   for (const auto& n : score.notes) std::printf("[ tracking ] %s\n", n.c_str());
-  std::printf("[ tracking ] %d false mug reports, %d dropped within 5 frames; %d/%d mugs lost, %d id switches\n",
-              score.false_mugs, score.false_mugs_dropped_in_5, score.true_mugs_lost, score.true_mugs, score.id_switches);
-  EXPECT_GE(score.false_mugs, 1);  // the scenes do fool single views
+  std::printf("[ tracking ] %d views fooled (%d reported), %d false mug reports, %d dropped within 5 frames; %d/%d mugs "
+              "lost, %d id switches\n",
+              score.false_mug_views, score.false_mug_views_reported, score.false_mugs, score.false_mugs_dropped_in_5,
+              score.true_mugs_lost, score.true_mugs, score.id_switches);
+  EXPECT_GE(score.false_mug_views, 1);  // the scenes do fool single views
   EXPECT_GE(score.false_mugs_dropped_in_5, 0.9 * score.false_mugs);
   EXPECT_GE(score.true_mugs, 2);
   EXPECT_EQ(score.true_mugs_lost, 0);

@@ -212,7 +212,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     Track t;
     t.id = next_id_++;
     t.model = ob.model;
-    t.log_odds = o.support * (2 * ob.score - 1);
+    t.log_odds = o.prior + o.support * (2 * ob.score - 1);
     t.hits = 1, t.seen = true, t.score = ob.score;
     // the body first, then the other parts
     std::vector<int> order(ob.parts.size());

@@ -466,8 +466,10 @@ std::vector<int> handle_pixels(const Pixels& f, const Segment& t, const std::vec
 
 /// The model-driven handle search next to `body` over the pixels `region` (free ones count): the
 /// best of handle_hypotheses() by its pixels
-/// (handle_pixels), refined twice with the ring plane held through the body's axis; repeated
-/// while another handle has the support (at most `max_count`).
+/// (handle_pixels), refined twice with the ring plane held through the body's axis; not a handle
+/// when the ring would rather turn its plane away from the axis (detail::handle_turn: more than
+/// `max_handle_turn_deg`, with a residual under 0.6 of the held one); repeated while another
+/// handle has the support (at most `max_count`).
 std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::vector<int>& region, int min_support,
                                     int max_count, const ColorImage* color) {
   std::vector<Segment> out;
@@ -493,6 +495,14 @@ std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::v
     }
     if (int(best_pix.size()) < min_support || !plausible(best, f.o, f.o.max_major_radius, 0.0)) break;
     best = refit_to(best_pix);  // (the residual of the final pixels)
+    // a handle's ring plane holds the body's axis; a ring whose points would rather have it
+    // turned away (a ring leaning on a jar) is not one: the search stops there
+    if (f.o.max_handle_turn_deg < 90) {
+      std::vector<Eigen::Vector3d> pts;
+      for (int i : best_pix) pts.push_back(f.p(i));
+      const auto turn = detail::handle_turn(body, best, pts);
+      if (std::abs(turn.turn_deg) > f.o.max_handle_turn_deg && turn.rms_turned < 0.6 * turn.rms_held) break;
+    }
     for (int i : best_pix) f.free[i] = 0;
     describe(f, best, std::move(best_pix), color);
     out.push_back(std::move(best));

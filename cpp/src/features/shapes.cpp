@@ -280,36 +280,75 @@ Segment handle_torus(const Segment& body, const Eigen::VectorXd& v) {
   t.axis = a.cross(u).normalized();
   t.radius = v(3);
   t.minor_radius = v(4);
+  if (v.size() > 5) t.axis = Eigen::AngleAxisd(v(5), a) * t.axis;  // the ring plane turned about the axis
   return t;
 }
-}  // namespace
 
-Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
-                     bool fix_minor) {
+/// The handle fit's residuals: a point is seen on the side of the tube that faces the camera;
+/// one that the fit would put on the far side costs up to a tube's diameter more (a thin tube
+/// can otherwise be fitted in front of the points as well as behind them).
+void handle_residuals(const Segment& t, const std::vector<Eigen::Vector3d>& pts, Eigen::VectorXd& r) {
+  for (int i = 0; i < int(pts.size()); ++i) {
+    Eigen::Vector3d sn;
+    const double d = signed_distance(t, pts[std::size_t(i)], &sn);
+    const double away = -sn.dot(-pts[std::size_t(i)].normalized());
+    r(i) = d + 2 * t.minor_radius * std::max(0.0, away);
+  }
+}
+
+/// (azimuth, height, distance from the axis, ring radius, tube radius) of a torus about `body`.
+Eigen::VectorXd handle_params(const Segment& body, const Segment& t) {
   const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
-  const Eigen::Vector3d q = t0.point - body.point;
+  const Eigen::Vector3d q = t.point - body.point;
   const double h = a.dot(q);
   const Eigen::Vector3d radial = q - a * h;
   Eigen::VectorXd x(5);
-  x << std::atan2(radial.dot(e2), radial.dot(e1)), h, radial.norm(), t0.radius, t0.minor_radius;
+  x << std::atan2(radial.dot(e2), radial.dot(e1)), h, radial.norm(), t.radius, t.minor_radius;
+  return x;
+}
+}  // namespace
+
+HandleTurn handle_turn(const Segment& body, const Segment& t, const std::vector<Eigen::Vector3d>& points) {
+  HandleTurn out;
+  if (points.size() < 6) return out;
+  std::vector<Eigen::Vector3d> buffer;
+  const auto& pts = subsample_into(points, buffer);
+  const int N = int(pts.size());
+  const Eigen::VectorXd x0 = handle_params(body, t);
+  Eigen::VectorXd r(N);
+  handle_residuals(t, pts, r);
+  out.rms_held = std::sqrt(r.squaredNorm() / N);
+  out.rms_turned = out.rms_held;
+  // the ring and its turn, the tube held; from no turn and from a turn either way (a local fit)
+  for (double start : {0.0, 40.0, -40.0}) {
+    Eigen::VectorXd y(5);
+    y << x0.head<4>(), start * M_PI / 180.0;
+    levenberg_marquardt(y, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& res) {
+      Eigen::VectorXd full(6);
+      full << v.head<4>(), x0(4), v(4);
+      handle_residuals(handle_torus(body, full), pts, res);
+    });
+    Eigen::VectorXd full(6);
+    full << y.head<4>(), x0(4), y(4);
+    handle_residuals(handle_torus(body, full), pts, r);
+    const double rms = std::sqrt(r.squaredNorm() / N);
+    if (rms < out.rms_turned) out.rms_turned = rms, out.turn_deg = std::remainder(y(4), M_PI) * 180.0 / M_PI;
+  }
+  return out;
+}
+
+Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
+                     bool fix_minor) {
+  Eigen::VectorXd x = handle_params(body, t0);
   if (points.size() >= 5) {
     std::vector<Eigen::Vector3d> buffer;
     const auto& pts = subsample_into(points, buffer);
     const int N = int(pts.size());
     Eigen::VectorXd y = fix_minor ? Eigen::VectorXd(x.head<4>()) : x;
-    // A point is seen on the side of the tube that faces the camera: one that the fit would put
-    // on the far side costs up to a tube's diameter more (a thin tube can otherwise be fitted in
-    // front of the points as well as behind them).
     levenberg_marquardt(y, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
       Eigen::VectorXd full = x;
       full.head(v.size()) = v;
-      const Segment t = handle_torus(body, full);
-      for (int i = 0; i < N; ++i) {
-        Eigen::Vector3d sn;
-        const double d = signed_distance(t, pts[i], &sn);
-        const double away = -sn.dot(-pts[i].normalized());
-        r(i) = d + 2 * t.minor_radius * std::max(0.0, away);
-      }
+      handle_residuals(handle_torus(body, full), pts, r);
     });
     x.head(y.size()) = y;
   }

@@ -40,6 +40,16 @@ Segment refit_points(const Segment& s, const std::vector<Eigen::Vector3d>& point
 Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
                      bool fix_minor = false);
 
+/// How a handle's ring plane would rather turn about the body's axis (0: it holds the axis, as a
+/// handle's does; a ring leaning on a jar is turned): the fit of refit_handle (tube held) with the
+/// turn free as well, against the fit with the plane held.
+struct HandleTurn {
+  double turn_deg = 0.0;    ///< the best turn, -90..90
+  double rms_held = 0.0;    ///< the residual (metres) with the plane through the axis
+  double rms_turned = 0.0;  ///< with the plane turned
+};
+HandleTurn handle_turn(const Segment& body, const Segment& t, const std::vector<Eigen::Vector3d>& points);
+
 /// Cylinder: `point` moved to the middle of the points' extent along the axis and `height` set;
 /// plane: `point` = centroid. Others unchanged.
 void set_extent(Segment& s, const std::vector<Eigen::Vector3d>& points);

@@ -43,6 +43,8 @@ graph::NodeSpec detect_primitives_node() {
        "... whose radius is at least this, metres"},
       {"handle_body_max_radius", OptionType::Double, def.handle_body_max_radius, 0, 1, {},
        "... and at most this"},
+      {"max_handle_turn_deg", OptionType::Double, def.max_handle_turn_deg, 0, 90, {},
+       "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"},
   };
   s.make = [](const graph::Options& o) {
     features::DetectOptions d;
@@ -66,6 +68,7 @@ graph::NodeSpec detect_primitives_node() {
     d.handles_near_cylinders = o.get_bool("handles_near_cylinders");
     d.handle_body_min_radius = o.get_double("handle_body_min_radius");
     d.handle_body_max_radius = o.get_double("handle_body_max_radius");
+    d.max_handle_turn_deg = o.get_double("max_handle_turn_deg");
     return graph::NodeBody([d](graph::NodeContext& ctx) {
       features::DetectOptions q = d;
       if (ctx.has_input("roi")) q.roi = ctx.input<extension::Mask>("roi");

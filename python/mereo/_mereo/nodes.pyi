@@ -46,6 +46,7 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         handles_near_cylinders (bool, default true): look for a torus next to every cylinder
         handle_body_min_radius (float, default 0.02, 0..1): ... whose radius is at least this, metres
         handle_body_max_radius (float, default 0.08, 0..1): ... and at most this
+        max_handle_turn_deg (float, default 25, 0..90): a ring that fits better turned more than this from its body's axis is not a handle (90: no check)
     """
 def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
     """

@@ -23,7 +23,8 @@
 //  - a Kalman filter per track over its parts' parameters (positions, radii, height), world
 //    frame, static objects: measurement noise grows with depth (z^2), a small process noise
 //    absorbs pose errors.
-// Accepted observations that match no track start new tracks with stable, increasing ids.
+// Accepted observations that match no track start new tracks, with stable, increasing ids, from
+// `prior`: one view alone does not make a report, a second that agrees does.
 #pragma once
 
 #include <optional>
@@ -41,10 +42,11 @@ struct TrackOptions {
   double max_distance = 0.03;           ///< association: body centres, metres (world)
   double max_radius_difference = 0.01;  ///< association: body radii, metres
   double part_tolerance = 0.01;         ///< a part stays put relative to its body, metres
+  double prior = -1.6;                  ///< log-odds of a new hypothesis before its first view: one view does not make a report
   double support = 1.5;                 ///< log-odds per supporting view, times (2 score - 1)
   double consistent = 0.5;              ///< per part that stayed put
   double drifted = -2.5;                ///< per part that moved away from its body
-  double contradicted = -2.0;           ///< body seen, the model not accepted for it
+  double contradicted = -1.2;           ///< body seen, the model not accepted for it
   double decay = 0.9;                   ///< factor per frame unseen on a positive log-odds
   double floor = -10.0;                 ///< the log-odds held against a rejected hypothesis at most
   int max_missed = 30;                  ///< frames unseen before a track is dropped

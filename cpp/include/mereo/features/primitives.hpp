@@ -71,6 +71,10 @@ struct DetectOptions {
   /// have a handle; a goal such as "mug" narrows it to its body's range).
   double handle_body_min_radius = 0.02;
   double handle_body_max_radius = 0.08;
+  /// A handle's ring plane holds its body's axis: a torus that fits clearly better with its
+  /// plane turned more than this about the axis (a ring leaning on a jar) is not a handle;
+  /// degrees, 90 = no check. (Synthetic handles turn at most ~11 deg, leaning rings 18-70.)
+  double max_handle_turn_deg = 25.0;
   /// Optional region of interest: pixels with a non-zero value are used (same size as the
   /// cloud); empty = all pixels.
   Image<std::uint8_t, 1> roi;

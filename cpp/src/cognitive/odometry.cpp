@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -102,6 +104,19 @@ Pose Odometry::update(const Frame& frame, const std::vector<Segment>& segments, 
     if (s.odometry->compute(s.frame, current, plain))
       without = alignment(s.depth, depth, frame.intrinsics, plain);
     if (without >= 0 && (with_guess < 0 || with_guess < 0.8 * without)) Rt = plain, with_guess = without;
+    if (with_guess >= 0 && !s.last_motion.empty()) {
+      // a camera moves smoothly: a motion far from the last one is the alignment failing (an
+      // untextured view sliding along the table); the last motion stands in for it
+      Eigen::Matrix4d A, B;
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) A(r, c) = Rt.at<double>(r, c), B(r, c) = s.last_motion.at<double>(r, c);
+      const Pose change = Pose(B).inverse() * Pose(A);
+      if (change.translation().norm() > options_.max_jump ||
+          Eigen::AngleAxisd(change.linear()).angle() > options_.max_turn_deg * M_PI / 180.0) {
+        Rt = s.last_motion.clone();
+        ++jumps_;
+      }
+    }
     if (with_guess >= 0) {
       // dst_p = Rt * src_p: this camera's points in the previous camera's frame are Rt^-1 p
       Eigen::Matrix4d M;

@@ -33,11 +33,16 @@ graph::NodeSpec odometry_node() {
   s.options = {
       {"replace", OptionType::Bool, false, 0, 0, {}, "estimate even where the frame has a pose"},
       {"max_depth", OptionType::Double, def.max_depth, 0.5, 20, {}, "farther points are not used, metres"},
+      {"max_jump", OptionType::Double, def.max_jump, 0.001, 100, {},
+       "a motion this far from the last one (metres) is a failed alignment: the last motion is taken"},
+      {"max_turn_deg", OptionType::Double, def.max_turn_deg, 0.1, 180, {}, "... or turned this far from it, degrees"},
   };
   s.ordered = true;
   s.make = [](const graph::Options& o) {
     cognitive::OdometryOptions oo;
     oo.max_depth = o.get_double("max_depth");
+    oo.max_jump = o.get_double("max_jump");
+    oo.max_turn_deg = o.get_double("max_turn_deg");
     auto odometry = std::make_shared<cognitive::Odometry>(oo);
     const bool replace = o.get_bool("replace");
     return graph::NodeBody([odometry, replace](graph::NodeContext& ctx) {

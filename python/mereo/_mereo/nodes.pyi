@@ -134,6 +134,8 @@ def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
     Options:
         replace (bool, default false): estimate even where the frame has a pose
         max_depth (float, default 4, 0.5..20): farther points are not used, metres
+        max_jump (float, default 0.1, 0.001..100): a motion this far from the last one (metres) is a failed alignment: the last motion is taken
+        max_turn_deg (float, default 10, 0.1..180): ... or turned this far from it, degrees
     """
 def report(**kwargs) -> mereo._mereo.NodeTemplate:
     """

@@ -20,6 +20,8 @@ struct OdometryOptions {
   double min_depth = 0.3;   ///< metres: points nearer or farther are not used
   double max_depth = 4.0;
   double max_depth_difference = 0.07;  ///< metres: correspondences farther apart are dropped
+  double max_jump = 0.1;      ///< metres: a motion this far from the last one is taken for a failed alignment
+  double max_turn_deg = 10.0; ///< degrees: likewise
   LandmarkOptions landmarks;
 };
 
@@ -38,6 +40,9 @@ class Odometry {
   Pose update(const Frame& frame, const std::vector<Segment>& segments = {},
               const std::optional<TablePlane>& table = std::nullopt);
   std::size_t lost() const { return lost_; }
+  /// Frames whose alignment moved too far from the last motion (`max_jump`, `max_turn_deg`): the
+  /// last motion was taken instead.
+  std::size_t jumps() const { return jumps_; }
   /// The last frame's correction (its matched and observed cylinders).
   const LandmarkFix& last_fix() const { return fix_; }
   const LandmarkMap& map() const { return map_; }
@@ -46,7 +51,7 @@ class Odometry {
   struct State;
   std::unique_ptr<State> state_;
   OdometryOptions options_;
-  std::size_t lost_ = 0;
+  std::size_t lost_ = 0, jumps_ = 0;
   LandmarkFix fix_;
   LandmarkMap map_;
 };

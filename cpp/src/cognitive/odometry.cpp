@@ -4,8 +4,6 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
-
-#include <Eigen/Core>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/rgbd.hpp>
@@ -16,12 +14,24 @@ namespace mereo::cognitive {
 
 namespace {
 
-/// How many of the source's points (every 4th pixel) land, moved by Rt, within 1 cm of the
-/// destination's depth at their projection.
-int alignment(const cv::Mat& src, const cv::Mat& dst, const Intrinsics& K, const cv::Mat& Rt) {
+/// OpenCV's 4x4 CV_64F motion and ours.
+Pose to_pose(const cv::Mat& Rt) {
   Eigen::Matrix4d M;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M(r, c) = Rt.at<double>(r, c);
+  return Pose(M);
+}
+cv::Mat to_mat(const Pose& P) {
+  cv::Mat Rt(4, 4, CV_64F);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) Rt.at<double>(r, c) = P.matrix()(r, c);
+  return Rt;
+}
+
+/// How many of the source's points (every 4th pixel) land, moved by Rt, within 1 cm of the
+/// destination's depth at their projection.
+int alignment(const cv::Mat& src, const cv::Mat& dst, const Intrinsics& K, const Pose& Rt) {
+  const Eigen::Matrix4d M = Rt.matrix();
   int n = 0;
   for (int v = 0; v < src.rows; v += 4)
     for (int u = 0; u < src.cols; u += 4) {
@@ -43,10 +53,9 @@ int alignment(const cv::Mat& src, const cv::Mat& dst, const Intrinsics& K, const
 struct Odometry::State {
   cv::Ptr<cv::rgbd::RgbdICPOdometry> odometry;
   Intrinsics intrinsics;
-  cv::Mat depth;                          // the previous frame's depth (to score alignments)
   cv::Ptr<cv::rgbd::OdometryFrame> frame;  // the previous frame, its pyramids and normals cached
   Pose pose = Pose::Identity();
-  cv::Mat last_motion;  // the previous frame-to-frame motion: the next one's first guess
+  std::optional<Pose> last_motion;  // the previous frame-to-frame motion: the next one's first guess
   bool started = false;
 };
 
@@ -97,32 +106,29 @@ Pose Odometry::update(const Frame& frame, const std::vector<Segment>& segments, 
     // a camera moves smoothly: the last motion is the first guess of this one; no motion is the
     // fallback, taken when the guess fails or aligns clearly fewer points (a planar table slides
     // along itself, so a few more aligned points do not make a motion right)
-    cv::Mat Rt, plain;
+    cv::Mat guessed, plain;
+    Pose Rt = Pose::Identity();
     int with_guess = -1, without = -1;
-    if (!s.last_motion.empty() && s.odometry->compute(s.frame, current, Rt, s.last_motion))
-      with_guess = alignment(s.depth, depth, frame.intrinsics, Rt);
-    if (s.odometry->compute(s.frame, current, plain))
-      without = alignment(s.depth, depth, frame.intrinsics, plain);
-    if (without >= 0 && (with_guess < 0 || with_guess < 0.8 * without)) Rt = plain, with_guess = without;
-    if (with_guess >= 0 && !s.last_motion.empty()) {
+    if (s.last_motion && s.odometry->compute(s.frame, current, guessed, to_mat(*s.last_motion)))
+      Rt = to_pose(guessed), with_guess = alignment(s.frame->depth, depth, frame.intrinsics, Rt);
+    if (s.odometry->compute(s.frame, current, plain)) {
+      const Pose P = to_pose(plain);
+      without = alignment(s.frame->depth, depth, frame.intrinsics, P);
+      if (with_guess < 0 || with_guess < 0.8 * without) Rt = P, with_guess = without;
+    }
+    if (with_guess >= 0 && s.last_motion) {
       // a camera moves smoothly: a motion far from the last one is the alignment failing (an
       // untextured view sliding along the table); the last motion stands in for it
-      Eigen::Matrix4d A, B;
-      for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) A(r, c) = Rt.at<double>(r, c), B(r, c) = s.last_motion.at<double>(r, c);
-      const Pose change = Pose(B).inverse() * Pose(A);
+      const Pose change = s.last_motion->inverse() * Rt;
       if (change.translation().norm() > options_.max_jump ||
           Eigen::AngleAxisd(change.linear()).angle() > options_.max_turn_deg * M_PI / 180.0) {
-        Rt = s.last_motion.clone();
+        Rt = *s.last_motion;
         ++jumps_;
       }
     }
     if (with_guess >= 0) {
       // dst_p = Rt * src_p: this camera's points in the previous camera's frame are Rt^-1 p
-      Eigen::Matrix4d M;
-      for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) M(r, c) = Rt.at<double>(r, c);
-      s.pose = s.pose * Pose(M).inverse();
+      s.pose = s.pose * Rt.inverse();
     } else {
       ++lost_;
     }
@@ -135,15 +141,10 @@ Pose Odometry::update(const Frame& frame, const std::vector<Segment>& segments, 
     if (!map_.table || (fix_.plane && (map_.landmarks.empty() || fix_.matched >= 1)))
       add_to_map(map_, *table, segments, s.pose, options_.landmarks);
   }
-  if (s.started) {
-    // the motion taken (corrected or not) is the next frame's first guess
-    const Pose motion = s.pose.inverse() * previous;
-    s.last_motion = cv::Mat(4, 4, CV_64F);
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) s.last_motion.at<double>(r, c) = motion.matrix()(r, c);
-  }
+  // the motion taken (corrected or not) is the next frame's first guess
+  if (s.started) s.last_motion = Pose(s.pose.inverse() * previous);
   s.started = true;
-  s.depth = depth, s.frame = current;
+  s.frame = current;
   return s.pose;
 }
 

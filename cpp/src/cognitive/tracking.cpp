@@ -83,6 +83,8 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     if (const Segment* b = body_of(observations[k])) depth[k] = std::max(0.3, b->point.z());
   }
   std::vector<bool> used(world.size(), false);
+  // evidence in log-odds, bounded: at most `floor` against a hypothesis, 20 for it
+  auto add_evidence = [&o](Track& t, double delta) { t.log_odds = std::clamp(t.log_odds + delta, o.floor, 20.0); };
 
   for (Track& t : tracks_) {
     ++t.age;
@@ -116,7 +118,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         const double along = rel.dot(ray), lateral = (rel - ray * along).norm();
         hidden = hidden || (along > 0 && lateral < track_body(t).radius);
       }
-      if (!hidden) t.log_odds = std::max(o.floor, t.log_odds + o.contradicted);
+      if (!hidden) add_evidence(t, o.contradicted);
       continue;
     }
     const Observation& ob = world[support];
@@ -155,7 +157,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         held.moved_to = now;
       }
     }
-    t.log_odds = std::clamp(t.log_odds + delta, o.floor, 20.0);
+    add_evidence(t, delta);
     // Kalman update of the parts that hold (static model: the prediction only adds process noise)
     const double r = std::pow(o.measurement_noise * depth[support] * depth[support], 2);
     for (std::size_t p = 0; p < t.parts.size(); ++p) {

@@ -482,24 +482,27 @@ std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::v
       if (pix.size() > best_pix.size()) best = c.s, best_pix = std::move(pix);
     }
     if (int(best_pix.size()) < min_support) break;
-    // refit to pixels: everything if the tube stays plausible, else the ring with the tube held
-    auto refit_to = [&](const std::vector<int>& pix) {
+    // refit to the pixels' points: everything if the tube stays plausible, else the ring with
+    // the tube held
+    auto points_of = [&](const std::vector<int>& pix) {
       std::vector<Eigen::Vector3d> pts;
       for (int i : pix) pts.push_back(f.p(i));
+      return pts;
+    };
+    auto refit_to = [&](const std::vector<Eigen::Vector3d>& pts) {
       const Segment free_fit = detail::refit_handle(body, best, pts);
       return plausible(free_fit, f.o, f.o.max_major_radius, 0.0) ? free_fit : detail::refit_handle(body, best, pts, true);
     };
     for (int round = 0; round < 2; ++round) {
-      best = refit_to(best_pix);
+      best = refit_to(points_of(best_pix));
       best_pix = handle_pixels(f, best, region);
     }
     if (int(best_pix.size()) < min_support || !plausible(best, f.o, f.o.max_major_radius, 0.0)) break;
-    best = refit_to(best_pix);  // (the residual of the final pixels)
+    const auto pts = points_of(best_pix);
+    best = refit_to(pts);  // (the residual of the final pixels)
     // a handle's ring plane holds the body's axis; a ring whose points would rather have it
     // turned away (a ring leaning on a jar) is not one: the search stops there
     if (f.o.max_handle_turn_deg < 90) {
-      std::vector<Eigen::Vector3d> pts;
-      for (int i : best_pix) pts.push_back(f.p(i));
       const auto turn = detail::handle_turn(body, best, pts);
       if (std::abs(turn.turn_deg) > f.o.max_handle_turn_deg && turn.rms_turned < 0.6 * turn.rms_held) break;
     }

@@ -120,6 +120,101 @@ TEST(Tracking, PartsDriftingApartOrAContradictedBodyAreRejected) {
   EXPECT_LE(frames, 4);
 }
 
+namespace {
+/// A depth image of `value` everywhere (NaN: none), VGA.
+DepthImage flat_depth(float value) {
+  DepthImage d(480, 640);
+  for (int v = 0; v < d.rows(); ++v)
+    for (int u = 0; u < d.cols(); ++u) d(v, u) = value;
+  return d;
+}
+}  // namespace
+
+TEST(Tracking, PartVisibilityReadsTheDepthWhereThePartIsHeld) {
+  // a handle facing the camera 1 m away (ring in the image plane), its body to the left
+  Segment body;
+  body.cls = PrimitiveClass::Cylinder;
+  body.point = Eigen::Vector3d(-0.055, 0, 1.0), body.axis = Eigen::Vector3d::UnitY(), body.radius = 0.04;
+  Segment handle;
+  handle.cls = PrimitiveClass::Torus;
+  handle.point = Eigen::Vector3d(0, 0, 1.0), handle.axis = Eigen::Vector3d::UnitZ(), handle.radius = 0.025;
+  handle.minor_radius = 0.006;
+  const Intrinsics K;
+  // 36 points on the ring; those within the body's wall or within the tolerance (1 cm) and the
+  // tube radius of it (x < -0.055 + 0.04 + 0.006 + 0.01) are not looked at
+  int outside = 0;
+  for (int k = 0; k < 36; ++k) outside += -0.055 + 0.056 <= 0.025 * std::cos(2 * M_PI * k / 36);
+  ASSERT_GT(outside, 10);
+  const auto there = cognitive::part_visibility(handle, body, flat_depth(1.0f), K);
+  EXPECT_EQ(there.total(), outside);
+  EXPECT_EQ(there.there, outside);
+  // each point stands for 1/36 of the ring's length times the tube's width, at 525 pixels per metre
+  EXPECT_NEAR(there.pixels, outside * (2 * M_PI * 0.025 / 36) * 0.012 * 525 * 525, 1e-6);
+  const auto through = cognitive::part_visibility(handle, body, flat_depth(1.5f), K);  // the wall behind it
+  EXPECT_EQ(through.through, outside);
+  const auto occluded = cognitive::part_visibility(handle, body, flat_depth(0.6f), K);  // something in front
+  EXPECT_EQ(occluded.occluded, outside);
+  const auto unknown = cognitive::part_visibility(handle, body, flat_depth(kNaN), K);
+  EXPECT_EQ(unknown.unknown, outside);
+  EXPECT_EQ(unknown.seen(), 0);
+  EXPECT_EQ(unknown.pixels, 0.0);
+  // the points around it: the ring's (a surface at its depth), none off its reach
+  DepthImage d = flat_depth(kNaN);
+  for (int v = 220; v <= 260; ++v)
+    for (int u = 300; u <= 340; ++u) d(v, u) = 1.0f;
+  const auto pts = cognitive::points_around(handle, body, d, K, 0.005, 10000);
+  ASSERT_FALSE(pts.empty());
+  for (const auto& p : pts) {
+    EXPECT_LE((p - handle.point).norm(), 0.025 + 0.006 + 0.005 + 1e-9);
+    EXPECT_GE(std::hypot(p.x() - body.point.x(), p.z() - body.point.z()), 0.045 - 1e-9);
+  }
+}
+
+TEST(Tracking, AContradictionCountsAsFarAsTheViewShowsThePart) {
+  // a mug taken for a mug from two views, then for a jar (its handle not found) from the next
+  const Eigen::Vector3d centre(0.0, 0.05, 0.05);
+  auto run = [&](float depth_after) {
+    cognitive::Tracker tracker;
+    std::mt19937_64 rng(5);
+    const DepthImage far = flat_depth(kNaN);
+    for (int k = 0; k < 2; ++k) tracker.update({mug_seen(orbit(k), centre, rng, 0.0005)}, orbit(k), &far, Intrinsics{});
+    const int mug = tracker.tracks().at(0).id;
+    const DepthImage after = flat_depth(depth_after);
+    int reported_views = 0;
+    for (int k = 2; k < 8; ++k) {
+      tracker.update({mug_seen(orbit(k), centre, rng, 0.0005, {}, "jar")}, orbit(k), &after, Intrinsics{});
+      reported_views += reported(tracker, mug);
+    }
+    return reported_views;
+  };
+  // something in front of the handle in every later view: no evidence, the mug stays
+  EXPECT_EQ(run(0.3f), 6);
+  // no depth where the handle is: no evidence either
+  EXPECT_EQ(run(kNaN), 6);
+  // the views see through where the handle is held: not a mug, at once
+  EXPECT_EQ(run(5.0f), 0);
+}
+
+TEST(Tracking, APartKeepsItsPlaceWhenTheBodyIsPartlyHidden) {
+  // the body's centre is the middle of its visible extent: with its lower half hidden from some
+  // views it moves up 2.5 cm while the handle stays; the handle has not drifted
+  cognitive::Tracker tracker;
+  std::mt19937_64 rng(6);
+  const Eigen::Vector3d centre(0.03, 0.0, 0.05);
+  for (int k = 0; k < 8; ++k) {
+    auto obs = mug_seen(orbit(k), centre, rng, 0.0005);
+    if (k % 2) {
+      const Pose to_camera = orbit(k).inverse();
+      obs.parts[0].second.point += to_camera.linear() * Eigen::Vector3d(0, 0, 0.025);
+      obs.parts[0].second.height = 0.05;
+    }
+    tracker.update({obs}, orbit(k));
+    ASSERT_EQ(tracker.tracks().size(), 1u);
+    EXPECT_FALSE(tracker.tracks()[0].parts[1].moved_to.has_value()) << "view " << k;
+  }
+  EXPECT_GT(tracker.tracks()[0].probability(), 0.99);
+}
+
 TEST(Tracking, APartFirstFittedOffIsReanchoredAndTheTrackKeepsItsId) {
   // the first view fits the handle 2 cm off; every later view sees it where it is
   cognitive::Tracker tracker;
@@ -172,10 +267,11 @@ TEST(TrackingGraph, OrderedNodeGivesTheSameTracksInBothModes) {
 }
 
 TEST(TrackingGraph, RingsLeaningOnJarsAreDroppedAndMugsKeepTheirTracks) {
-  // the orbit of seed 700: a ring leaning on a jar passes for a mug's handle from several views
+  // the orbits of seeds 700, 702 and 720: a ring leaning on a jar passes for a mug's handle from
+  // several views (seed 720: from four views in a row, its first, nearly edge-on)
   graph::Graph g = graph::Graph::load(std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop_tracking.yaml");
   bench::TrackingScore score;
-  for (std::uint64_t seed : {700, 702}) {
+  for (std::uint64_t seed : {700, 702, 720}) {
     synthetic::SceneOptions so;
     so.ambiguous_distractors = true;
     const auto seq = synthetic::render_sequence(seed, 30, so);

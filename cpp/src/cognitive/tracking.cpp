@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "cognitive/json.hpp"
+#include "features/shapes.hpp"
 
 namespace mereo::cognitive {
 namespace {
@@ -49,10 +50,74 @@ int part_index(const Observation& o, const std::string& role) {
 /// The frame's segment of the observation's part k (-1 when not given).
 int segment_of(const Observation& o, int k) { return k >= 0 && std::size_t(k) < o.segments.size() ? o.segments[std::size_t(k)] : -1; }
 
-/// Where a part sits relative to its body: the offset of its centre, world frame.
-Eigen::Vector3d offset(const Segment& part, const Segment& body) { return part.point - body.point; }
+/// Where a part sits relative to its body (world frame, along the unit `axis` of the track's
+/// body): its centre's offset from the body's axis across it, and its height along the axis.
+/// The height is the centre's own, not relative to the body's centre: a cylinder's centre is the
+/// middle of its visible extent, which moves when something hides its lower or upper part.
+Eigen::Vector3d offset(const Segment& part, const Segment& body, const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d q = part.point - body.point;
+  return q - axis * axis.dot(q) + axis * axis.dot(part.point);
+}
+
+/// This view's points around the track's handles, fitted with those of the last views (world
+/// frame): `drifted` for each handle whose ring would rather turn away from the body's axis.
+double handle_evidence(Track& t, const DepthImage& depth, const Intrinsics& K, const Pose& camera_to_world,
+                       const TrackOptions& o) {
+  double delta = 0.0;
+  const Pose to_camera = camera_to_world.inverse();
+  const Segment& body = track_body(t);
+  const Segment body_camera = transformed(body, to_camera);
+  for (std::size_t p = 1; p < t.parts.size(); ++p) {
+    TrackedPart& part = t.parts[p];
+    if (part.world.cls != PrimitiveClass::Torus) continue;
+    auto points = points_around(transformed(part.world, to_camera), body_camera, depth, K);
+    if (points.size() < 30) continue;  // hidden, or out of view
+    for (auto& q : points) q = camera_to_world * q;
+    part.recent_points.push_back(std::move(points));
+    if (int(part.recent_points.size()) > o.turn_views) part.recent_points.erase(part.recent_points.begin());
+    if (part.recent_points.size() < 2) continue;
+    std::vector<Eigen::Vector3d> all;
+    for (const auto& v : part.recent_points) all.insert(all.end(), v.begin(), v.end());
+    // the ring with the plane held (the tube too, if letting it go makes it implausibly fat:
+    // a fat tube can swallow a turned ring)
+    Segment held = features::detail::refit_handle(body, part.world, all);
+    const bool plausible = held.minor_radius >= 0.002 && held.minor_radius <= 0.012 && held.radius >= 0.01 &&
+                           held.radius <= 0.08;
+    if (!plausible) held = features::detail::refit_handle(body, part.world, all, true);
+    const auto turn = features::detail::handle_turn(body, held, all);
+    if (std::abs(turn.turn_deg) > o.max_handle_turn_deg && turn.rms_turned < 0.6 * turn.rms_held) delta += o.drifted;
+  }
+  return delta;
+}
 
 }  // namespace
+
+std::vector<Eigen::Vector3d> points_around(const Segment& part, const Segment& body, const DepthImage& depth,
+                                           const Intrinsics& K, double margin, std::size_t max_points) {
+  std::vector<Eigen::Vector3d> out;
+  const Eigen::Vector3d& c = part.point;
+  if (depth.empty() || c.z() < 0.1) return out;
+  const double reach = (part.cls == PrimitiveClass::Torus ? part.radius + part.minor_radius : part.radius) + margin;
+  const Eigen::Vector3d a = body.axis.normalized();
+  const int u0 = int(std::lround(K.fx * c.x() / c.z() + K.cx)), v0 = int(std::lround(K.fy * c.y() / c.z() + K.cy));
+  const int w = int(std::ceil(K.fx * reach / std::max(0.1, c.z() - reach)));
+  for (int v = std::max(0, v0 - w); v <= std::min(depth.rows() - 1, v0 + w); ++v)
+    for (int u = std::max(0, u0 - w); u <= std::min(depth.cols() - 1, u0 + w); ++u) {
+      const double z = depth(v, u);
+      if (!std::isfinite(z) || z <= 0) continue;
+      const Eigen::Vector3d p((u - K.cx) * z / K.fx, (v - K.cy) * z / K.fy, z);
+      const Eigen::Vector3d q = p - body.point;
+      if ((p - c).norm() > reach || (q - a * a.dot(q)).norm() < body.radius + margin) continue;
+      out.push_back(p);
+    }
+  if (out.size() > max_points) {
+    const double step = double(out.size()) / double(max_points);
+    std::vector<Eigen::Vector3d> kept;
+    for (std::size_t k = 0; k < max_points; ++k) kept.push_back(out[std::size_t(k * step)]);
+    out = std::move(kept);
+  }
+  return out;
+}
 
 Segment transformed(const Segment& s, const Pose& T) {
   Segment out = s;
@@ -60,6 +125,63 @@ Segment transformed(const Segment& s, const Pose& T) {
   out.axis = T.linear() * s.axis;
   if (s.cls == PrimitiveClass::Plane) out.d = -out.axis.dot(out.point);
   return out;
+}
+
+Visibility& Visibility::operator+=(const Visibility& o) {
+  there += o.there, through += o.through, occluded += o.occluded, unknown += o.unknown, pixels += o.pixels;
+  return *this;
+}
+
+Visibility part_visibility(const Segment& part, const Segment& body, const DepthImage& depth, const Intrinsics& K,
+                           double tolerance) {
+  // the points to look at, what each stands for (metres^2 facing the camera), and the part's
+  // thickness about them
+  std::vector<Eigen::Vector3d> points;
+  double thickness = 0.0, area = 0.0;
+  if (part.cls == PrimitiveClass::Torus) {
+    constexpr int kSamples = 36;
+    const Eigen::Vector3d n = part.axis.normalized();
+    const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    const Eigen::Vector3d a = body.axis.normalized();
+    for (int k = 0; k < kSamples; ++k) {
+      const double phi = 2 * M_PI * k / kSamples;
+      const Eigen::Vector3d p = part.point + part.radius * (std::cos(phi) * e1 + std::sin(phi) * e2);
+      const Eigen::Vector3d q = p - body.point;
+      // inside the body, or so close to its wall that the wall would pass for the part
+      if ((q - a * a.dot(q)).norm() < body.radius + part.minor_radius + tolerance) continue;
+      points.push_back(p);
+    }
+    thickness = part.minor_radius;
+    area = 2 * M_PI * part.radius / kSamples * 2 * part.minor_radius;
+  } else {
+    points.push_back(part.point);
+    thickness = part.cls == PrimitiveClass::Plane ? 0.0 : part.radius;
+    area = M_PI * part.radius * part.radius;
+  }
+  Visibility v;
+  for (const Eigen::Vector3d& p : points) {
+    if (p.z() < 0.1) {
+      ++v.unknown;
+      continue;
+    }
+    const int u = int(std::lround(K.fx * p.x() / p.z() + K.cx)), r = int(std::lround(K.fy * p.y() / p.z() + K.cy));
+    const int w = std::clamp(int(std::ceil(K.fx * (thickness + 0.004) / p.z())), 1, 8);
+    int near = 0, front = 0, behind = 0;
+    for (int y = std::max(0, r - w); y <= std::min(depth.rows() - 1, r + w); ++y)
+      for (int x = std::max(0, u - w); x <= std::min(depth.cols() - 1, u + w); ++x) {
+        const float z = depth(y, x);
+        if (!std::isfinite(z) || z <= 0) continue;
+        if (z < p.z() - thickness - tolerance) ++front;
+        else if (z > p.z() + thickness + tolerance) ++behind;
+        else ++near;
+      }
+    if (near) ++v.there;
+    else if (front + behind == 0) ++v.unknown;
+    else if (front >= behind) ++v.occluded;
+    else ++v.through;
+    if (near || behind > front) v.pixels += area * K.fx * K.fy / (p.z() * p.z());
+  }
+  return v;
 }
 
 double Track::probability() const { return 1.0 / (1.0 + std::exp(-log_odds)); }
@@ -72,15 +194,16 @@ const TrackedPart* Track::part(const std::string& role) const {
 
 Tracker::Tracker(TrackOptions options) : options_(options) {}
 
-const std::vector<Track>& Tracker::update(const std::vector<Observation>& observations, const Pose& camera_to_world) {
+const std::vector<Track>& Tracker::update(const std::vector<Observation>& observations, const Pose& camera_to_world,
+                                          const DepthImage* depth, const Intrinsics& intrinsics) {
   ++frame_;
   const TrackOptions& o = options_;
-  // the observations in the world frame, and each one's depth (for its measurement noise)
+  // the observations in the world frame, and each one's distance (for its measurement noise)
   std::vector<Observation> world(observations);
-  std::vector<double> depth(observations.size(), 1.0);
+  std::vector<double> distance(observations.size(), 1.0);
   for (std::size_t k = 0; k < world.size(); ++k) {
     for (auto& [role, s] : world[k].parts) s = transformed(s, camera_to_world);
-    if (const Segment* b = body_of(observations[k])) depth[k] = std::max(0.3, b->point.z());
+    if (const Segment* b = body_of(observations[k])) distance[k] = std::max(0.3, b->point.z());
   }
   std::vector<bool> used(world.size(), false);
   // evidence in log-odds, bounded: at most `floor` against a hypothesis, 20 for it
@@ -100,6 +223,11 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         support = int(k);
     }
     t.seen = seen;
+    // a handle's surroundings, whether or not this view found its body
+    if (depth && !depth->empty()) {
+      const double ring = handle_evidence(t, *depth, intrinsics, camera_to_world, o);
+      if (ring != 0) add_evidence(t, ring);
+    }
     if (!seen) {
       if (t.log_odds > 0) t.log_odds *= o.decay;
       ++t.missed;
@@ -107,10 +235,27 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     }
     t.missed = 0;
     if (support < 0) {
-      // the body is there but not taken for this model: a contradiction, unless a part that
-      // would make the difference is hidden behind the body from this view (a mug seen with
-      // its handle at the back looks like a cup)
+      // the body is there but not taken for this model: a contradiction, as strong as the view
+      // shows the parts that would make the difference where the track holds them
       const Pose to_camera = camera_to_world.inverse();
+      std::vector<std::string> roles;  // the parts of the model the view took the body for
+      for (std::size_t k = 0; k < world.size(); ++k)
+        if (world[k].accepted && body_of(world[k]) && same_body(*body_of(world[k]), track_body(t), o))
+          for (const auto& [role, s] : world[k].parts) roles.push_back(role);
+      Visibility v;
+      if (depth && !depth->empty()) {
+        const Segment body = transformed(track_body(t), to_camera);
+        for (std::size_t p = 1; p < t.parts.size(); ++p)
+          if (!t.parts[p].world.inward && std::find(roles.begin(), roles.end(), t.parts[p].role) == roles.end())
+            v += part_visibility(transformed(t.parts[p].world, to_camera), body, *depth, intrinsics, o.depth_tolerance);
+      }
+      if (v.total() > 0) {
+        const double shown = std::min(1.0, v.pixels / o.visible_pixels);
+        if (shown > 0) add_evidence(t, o.contradicted * shown + (2 * v.through > v.seen() ? o.drifted * shown : 0.0));
+        continue;
+      }
+      // without depth: a part behind the body and within its silhouette is hidden (a mug seen
+      // with its handle at the back looks like a cup)
       const Eigen::Vector3d body = to_camera * track_body(t).point, ray = body.normalized();
       bool hidden = false;  // behind the body and within its silhouette
       for (std::size_t p = 1; p < t.parts.size(); ++p) {
@@ -141,8 +286,9 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         continue;
       }
       TrackedPart& held = t.parts[p];
-      const Eigen::Vector3d now = offset(seen_part, body_now);
-      if ((now - offset(held.world, track_body(t))).norm() <= o.part_tolerance) {
+      const Eigen::Vector3d axis = track_body(t).axis.normalized();
+      const Eigen::Vector3d now = offset(seen_part, body_now, axis);
+      if ((now - offset(held.world, track_body(t), axis)).norm() <= o.part_tolerance) {
         delta += o.consistent;
         fuse[p] = &seen_part;
         held.moved_to.reset();
@@ -151,6 +297,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
         // there (its filter restarts from this view), the penalties already taken stay
         held.world = seen_part;
         held.moved_to.reset();
+        held.recent_points.clear();
         reanchor[p] = true;
       } else {
         delta += o.drifted;
@@ -159,7 +306,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     }
     add_evidence(t, delta);
     // Kalman update of the parts that hold (static model: the prediction only adds process noise)
-    const double r = std::pow(o.measurement_noise * depth[support] * depth[support], 2);
+    const double r = std::pow(o.measurement_noise * distance[support] * distance[support], 2);
     for (std::size_t p = 0; p < t.parts.size(); ++p) {
       if (reanchor[p]) {
         t.x.segment<kPerPart>(kPerPart * p) = params(t.parts[p].world);
@@ -222,7 +369,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     std::stable_partition(order.begin(), order.end(), [&](int i) { return ob.parts[std::size_t(i)].first == "body"; });
     t.x.resize(kPerPart * int(order.size()));
     t.P.resize(kPerPart * int(order.size()));
-    const double r = std::pow(o.measurement_noise * depth[k] * depth[k], 2);
+    const double r = std::pow(o.measurement_noise * distance[k] * distance[k], 2);
     for (std::size_t p = 0; p < order.size(); ++p) {
       const auto& [role, part] = ob.parts[std::size_t(order[p])];
       t.parts.push_back({role, part, segment_of(ob, order[p]), part});

@@ -1,7 +1,8 @@
 // track_objects: the cognitive layer (cognitive::Tracker): the frame's object hypotheses
 // (matching::interpret of the lattice) associated with the tracks held across frames in the
 // world frame (camera poses from the frames: the renderer's, a TUM groundtruth.txt, or the
-// odometry node's), rescored, Kalman-refined, dropped; frames in order.
+// odometry node's), rescored, Kalman-refined, dropped; frames in order. The frame's depth tells
+// which parts a view shows where a track holds them, and gives the points around its handles.
 //
 //   nodes:
 //     - {name: tracks, kind: track_objects}
@@ -35,6 +36,10 @@ graph::NodeSpec track_objects_node() {
       {"file", OptionType::String, std::string(""), 0, 0, {}, "the model file of match_models (empty: the shipped models)"},
       {"max_distance", OptionType::Double, def.max_distance, 0.001, 1, {}, "association: body centres, metres"},
       {"part_tolerance", OptionType::Double, def.part_tolerance, 0.001, 1, {}, "a part stays put relative to its body"},
+      {"visible_pixels", OptionType::Double, def.visible_pixels, 1, 1e6, {},
+       "a missing part this large in the image (pixels, where the frame's depth shows its place) is a full contradiction"},
+      {"max_handle_turn_deg", OptionType::Double, def.max_handle_turn_deg, 0, 90, {},
+       "the last views around a handle fitted together: a ring turned further from the body's axis is no handle"},
       {"max_missed", OptionType::Int, (long long)def.max_missed, 1, 100000, {}, "frames unseen before a track is dropped"},
       {"report", OptionType::Double, def.report, 0, 1, {}, "probability at which a track is reported"},
   };
@@ -44,6 +49,8 @@ graph::NodeSpec track_objects_node() {
     cognitive::TrackOptions to;
     to.max_distance = o.get_double("max_distance");
     to.part_tolerance = o.get_double("part_tolerance");
+    to.visible_pixels = o.get_double("visible_pixels");
+    to.max_handle_turn_deg = o.get_double("max_handle_turn_deg");
     to.max_missed = int(o.get_int("max_missed"));
     to.report = o.get_double("report");
     auto tracker = std::make_shared<cognitive::Tracker>(to);  // one per run: the body is made per run
@@ -57,7 +64,7 @@ graph::NodeSpec track_objects_node() {
         for (const auto& [role, k] : r.parts) ob.parts.emplace_back(role, segments.at(std::size_t(k))), ob.segments.push_back(k);
         obs.push_back(std::move(ob));
       }
-      ctx.output("tracks", tracker->update(obs, frame.pose.value_or(Pose::Identity())));
+      ctx.output("tracks", tracker->update(obs, frame.pose.value_or(Pose::Identity()), &frame.depth, frame.intrinsics));
     });
   };
   return s;

@@ -8,13 +8,26 @@
 //    (world frame) with a radius within `max_radius_difference`;
 //  - judgement (recursive, in log-odds): an accepted observation of the track's model raises it
 //    by `support * (2 score - 1)`, and each of its other parts adds `consistent` when it stays
-//    where the track holds it relative to the body (within `part_tolerance`) or `drifted`
-//    (negative) when it moved away from its partner (a plate's rim taken for a handle, a ring
+//    where the track holds it relative to the body (within `part_tolerance`; across the body's
+//    axis from the axis, along it by its own height, as the body's centre moves with its
+//    visible extent) or `drifted` (negative) when it moved away from its partner (a plate's rim taken for a handle, a ring
 //    leaning on a jar seen from another side); a part seen in two views in a row at the same new
 //    place is re-anchored there (the first fit was off), the penalties taken stay; a body seen
-//    but taken for something else adds `contradicted` (negative), unless one of the track's
-//    other parts is hidden behind the body (farther along the ray, within its silhouette: a mug
-//    with its handle at the back looks like a cup); a track not seen at all decays towards
+//    but taken for something else adds `contradicted` (negative) in proportion to how much of
+//    the parts that make the difference (those the view's accepted model lacks: a mug's handle
+//    when the view says cup) the view shows where the track holds them (their area in the image,
+//    in full from `visible_pixels`: a handle seen edge-on is often missed; part_visibility against
+//    the frame's depth: a part hidden behind its body or another object, or where the depth is
+//    missing, is no evidence; a mug seen with its handle at the back looks like a cup), and
+//    `drifted` more when the view sees through where the part should be (the track's part is
+//    not there: a ring fitted as a handle from another side); with depth, the points around a
+//    handle (where the track holds it, off the body's wall) in the last `turn_views` views that
+//    show them are fitted together, world frame, with the ring plane held through the body's
+//    axis and free to turn about it: a ring that turns more than `max_handle_turn_deg` with a
+//    clearly better fit (residual under 0.6 of the held one) adds `drifted` per view (a ring
+//    leaning on a jar: each view alone may see it nearly edge-on and pass it for a handle, the
+//    views together do not); without depth, only a part behind
+//    the body and within its silhouette counts as hidden; a track not seen at all decays towards
 //    undecided by `decay` per frame (belief only: the evidence against it is kept);
 //  - rejected hypotheses are not forgotten: a track below `report` is not reported but is held,
 //    with the evidence against it (down to `floor`), as long as its body stays in view, so that a
@@ -34,6 +47,7 @@
 #include <Eigen/Core>
 
 #include "mereo/core/camera.hpp"
+#include "mereo/core/image.hpp"
 #include "mereo/core/segment.hpp"
 
 namespace mereo::cognitive {
@@ -52,6 +66,10 @@ struct TrackOptions {
   int max_missed = 30;                  ///< frames unseen before a track is dropped
   double report = 0.5;                  ///< probability at which a track is reported
   double measurement_noise = 0.002;     ///< sigma of a measured parameter at 1 m (grows as z^2)
+  double depth_tolerance = 0.01;        ///< visibility: a surface within this of a part's is the part, metres
+  double visible_pixels = 300;          ///< a part this large in the image (pixels) gives a full contradiction
+  int turn_views = 8;                   ///< a handle's surroundings: the last views fitted together
+  double max_handle_turn_deg = 25.0;    ///< ... a ring turned further from the body's axis is no handle
   double process_noise = 0.0003;        ///< sigma per frame
 };
 
@@ -73,6 +91,9 @@ struct TrackedPart {
   /// Where the last view that drifted saw it, relative to the body (world frame); a next view
   /// that agrees re-anchors the part there.
   std::optional<Eigen::Vector3d> moved_to;
+  /// A handle's surroundings in the last views that showed them (world frame: the frames' depth
+  /// around where the track holds it, off the body's wall), one set per view.
+  std::vector<std::vector<Eigen::Vector3d>> recent_points;
 };
 
 struct Track {
@@ -95,9 +116,11 @@ struct Track {
 class Tracker {
  public:
   explicit Tracker(TrackOptions options = {});
-  /// One frame: its observations (camera frame) and the camera-to-world pose. Returns the held
-  /// tracks, by id: reported ones (probability >= `report`) and rejected ones still in view.
-  const std::vector<Track>& update(const std::vector<Observation>& observations, const Pose& camera_to_world);
+  /// One frame: its observations (camera frame) and the camera-to-world pose; `depth` (the
+  /// frame's, with its intrinsics), when given, tells which parts the view shows. Returns the
+  /// held tracks, by id: reported ones (probability >= `report`) and rejected ones still in view.
+  const std::vector<Track>& update(const std::vector<Observation>& observations, const Pose& camera_to_world,
+                                   const DepthImage* depth = nullptr, const Intrinsics& intrinsics = {});
   const std::vector<Track>& tracks() const { return tracks_; }
   const TrackOptions& options() const { return options_; }
   /// Every id ever dropped (unseen for `max_missed` frames), with the frame it was dropped at
@@ -111,6 +134,31 @@ class Tracker {
   int next_id_ = 0;
   int frame_ = -1;
 };
+
+/// What a view's depth shows where a part is held to be: points sampled on the part (a torus:
+/// its ring, except where it runs inside `body` or so close to its wall, within `tolerance`,
+/// that the wall would pass for it; others: the centre), each classed by the depth around its
+/// pixel against the part's surface there.
+struct Visibility {
+  int there = 0;     ///< a surface at the part's depth (within `tolerance`)
+  int through = 0;   ///< only surfaces well behind it: the view sees through where the part should be
+  int occluded = 0;  ///< something in front of it
+  int unknown = 0;   ///< no depth there, or outside the image
+  double pixels = 0; ///< the part's area in the image where it is seen (there or through), pixels
+  int seen() const { return there + through; }
+  int total() const { return there + through + occluded + unknown; }
+  Visibility& operator+=(const Visibility& o);
+};
+/// `part` and `body` in the camera frame.
+Visibility part_visibility(const Segment& part, const Segment& body, const DepthImage& depth,
+                           const Intrinsics& intrinsics, double tolerance = 0.01);
+
+/// The depth's points (camera frame, as `part` and `body`) around a part: within its reach (a
+/// torus: ring and tube radius; others: radius) plus `margin` of its centre, and more than
+/// `margin` off the body's wall; at most `max_points`, evenly strided.
+std::vector<Eigen::Vector3d> points_around(const Segment& part, const Segment& body, const DepthImage& depth,
+                                           const Intrinsics& intrinsics, double margin = 0.005,
+                                           std::size_t max_points = 400);
 
 /// A segment moved by a pose (points transformed, axes rotated).
 Segment transformed(const Segment& s, const Pose& T);

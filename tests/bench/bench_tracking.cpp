@@ -134,30 +134,32 @@ int main(int argc, char** argv) {
   std::printf("bench_tracking: %d sequences (seeds %d-%d) of %d frames, rings leaning on jars\n\n", sequences,
               int(first), int(first) + sequences - 1, frames);
   std::printf("%-20s %10s %16s %14s %10s %12s %14s %14s\n", "poses", "ms/frame", "views fooled", "false mugs",
-              "dropped<=5", "mugs lost", "switches/100", "radius mm 1|10");
+              "dropped<=5", "mugs lost", "switches/100", "radius mm 1|10 (ratio)");
   auto line = [](const Setting& s) {
     const auto& c = s.score;
-    std::printf("%-20s %10.1f %8d (%3d) %14d %10.3f %8d/%-3d %14.2f %8.3f|%.3f\n", s.name.c_str(), median(s.ms),
+    std::printf("%-20s %10.1f %8d (%3d) %14d %10.3f %8d/%-3d %14.2f %8.3f|%.3f (%.2f)\n", s.name.c_str(), median(s.ms),
                 c.false_mug_views, c.false_mug_views_reported, c.false_mugs,
                 c.false_mugs ? double(c.false_mugs_dropped_in_5) / c.false_mugs : 1.0, c.true_mugs_lost, c.true_mugs,
                 c.mug_frames ? 100.0 * c.id_switches / c.mug_frames : 0.0, median(c.single_view_radius_mm),
-                median(c.fused_radius_mm));
+                median(c.fused_radius_mm), median(c.fused_radius_mm) / median(c.single_view_radius_mm));
   };
   line(given);
-  line(estimated);
+  if (!given_only) line(estimated);
   std::printf("(views fooled: frames in which the view alone took a ring and its jar for a mug, in brackets those\n"
               " the tracker reported; false mugs: stretches of frames reporting a false mug track)\n");
-  std::printf("\npose error per frame (against the true relative motion) and at the last frame (against the first):\n");
-  std::printf("%-20s %10s %12s %12s %10s %14s %14s\n", "poses", "ms/frame", "median mm", "median deg", "max mm",
-              "steps > 1 cm", "last frame mm");
-  for (const Setting* s : {&estimated, &anchor})
-    std::printf("%-20s %10.1f %12.2f %12.3f %10.1f %10d/%-3zu %14.1f\n", s->name.c_str(), median(s->ms),
-                median(s->drift_mm), median(s->drift_deg), max_of(s->drift_mm), over(s->drift_mm, 10.0),
-                s->drift_mm.size(), median(s->end_mm));
-  std::printf("ratio (OpenCV alone / odometry node): median error per frame %.2fx, max %.1fx, last frame %.1fx\n",
-              median(anchor.drift_mm) / std::max(1e-9, median(estimated.drift_mm)),
-              max_of(anchor.drift_mm) / std::max(1e-9, max_of(estimated.drift_mm)),
-              median(anchor.end_mm) / std::max(1e-9, median(estimated.end_mm)));
+  if (!given_only) {
+    std::printf("\npose error per frame (against the true relative motion) and at the last frame (against the first):\n");
+    std::printf("%-20s %10s %12s %12s %10s %14s %14s\n", "poses", "ms/frame", "median mm", "median deg", "max mm",
+                "steps > 1 cm", "last frame mm");
+    for (const Setting* s : {&estimated, &anchor})
+      std::printf("%-20s %10.1f %12.2f %12.3f %10.1f %10d/%-3zu %14.1f\n", s->name.c_str(), median(s->ms),
+                  median(s->drift_mm), median(s->drift_deg), max_of(s->drift_mm), over(s->drift_mm, 10.0),
+                  s->drift_mm.size(), median(s->end_mm));
+    std::printf("ratio (OpenCV alone / odometry node): median error per frame %.2fx, max %.1fx, last frame %.1fx\n",
+                median(anchor.drift_mm) / std::max(1e-9, median(estimated.drift_mm)),
+                max_of(anchor.drift_mm) / std::max(1e-9, max_of(estimated.drift_mm)),
+                median(anchor.end_mm) / std::max(1e-9, median(estimated.end_mm)));
+  }
   for (const auto* s : {&given, &estimated})
     for (const auto& n : s->score.notes) std::printf("  %s: %s\n", s->name.c_str(), n.c_str());
   auto json = [](const Setting& s) {
@@ -166,12 +168,19 @@ int main(int argc, char** argv) {
     std::snprintf(buf, sizeof buf,
                   "{\"ms_per_frame\": %.1f, \"views_fooled\": %d, \"views_fooled_reported\": %d, \"false_mugs\": %d, \"false_dropped_within_5\": %.4f, \"true_mugs\": %d, "
                   "\"true_mugs_lost\": %d, \"id_switches_per_100\": %.3f, \"radius_mm_one_view\": %.4f, "
-                  "\"radius_mm_after_10\": %.4f}",
+                  "\"radius_mm_after_10\": %.4f, \"radius_after_10_over_one_view\": %.3f}",
                   median(s.ms), c.false_mug_views, c.false_mug_views_reported, c.false_mugs, c.false_mugs ? double(c.false_mugs_dropped_in_5) / c.false_mugs : 1.0,
                   c.true_mugs, c.true_mugs_lost, c.mug_frames ? 100.0 * c.id_switches / c.mug_frames : 0.0,
-                  median(c.single_view_radius_mm), median(c.fused_radius_mm));
+                  median(c.single_view_radius_mm), median(c.fused_radius_mm),
+                  median(c.fused_radius_mm) / median(c.single_view_radius_mm));
     return std::string(buf);
   };
+  if (given_only) {
+    std::printf("{\"bench\": \"tracking\", \"quick\": %s, \"first_seed\": %d, \"sequences\": %d, \"frames\": %d, \"given\": %s, "
+                "\"odometry\": null}\n",
+                quick ? "true" : "false", int(first), sequences, frames, json(given).c_str());
+    return 0;
+  }
   std::printf("{\"bench\": \"tracking\", \"quick\": %s, \"first_seed\": %d, \"sequences\": %d, \"frames\": %d, \"given\": %s, "
               "\"odometry\": %s, \"odometry_median_mm\": %.3f, \"odometry_median_deg\": %.4f, "
               "\"odometry_max_mm\": %.2f, \"odometry_last_frame_mm\": %.2f, \"opencv_median_mm\": %.3f, "

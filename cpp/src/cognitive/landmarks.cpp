@@ -1,8 +1,9 @@
-// The camera's pose from the table plane and the upright cylinders on it (see landmarks.hpp).
+// The camera's pose from the table plane and the upright cylinders and rings on it (see landmarks.hpp).
 #include "mereo/cognitive/landmarks.hpp"
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <Eigen/Geometry>
 
@@ -19,8 +20,9 @@ struct Planar {
   Eigen::Vector2d apply(const Eigen::Vector2d& c) const { return Eigen::Rotation2Dd(theta) * c + t; }
 };
 
-bool same_radius(double a, double b, const LandmarkOptions& o) {
-  return std::abs(a - b) <= o.radius_tolerance + 0.1 * std::max(a, b);
+/// A frame's point may be a landmark: the same class, radii that agree.
+bool same_kind(const PlanarPoint& p, const Landmark& l, const LandmarkOptions& o) {
+  return p.cls == l.cls && std::abs(p.radius - l.radius) <= o.radius_tolerance + 0.1 * std::max(p.radius, l.radius);
 }
 
 /// The landmark each point lands on under `g` (-1: none), and how many do.
@@ -34,7 +36,7 @@ int matches(const std::vector<PlanarPoint>& points, const std::vector<Landmark>&
     int k = -1;
     for (std::size_t j = 0; j < landmarks.size(); ++j) {
       const double e = (landmarks[j].xy - w).norm();
-      if (e < best && same_radius(points[i].radius, landmarks[j].radius, o)) best = e, k = int(j);
+      if (e < best && same_kind(points[i], landmarks[j], o)) best = e, k = int(j);
     }
     if (k >= 0) {
       ++n;
@@ -44,22 +46,27 @@ int matches(const std::vector<PlanarPoint>& points, const std::vector<Landmark>&
   return n;
 }
 
-/// The planar motion that best carries the matched points onto their landmarks (2-D Procrustes).
-Planar fit(const std::vector<PlanarPoint>& points, const std::vector<Landmark>& landmarks, const std::vector<int>& which) {
+/// The planar motion that best carries the matched points onto their landmarks (2-D Procrustes,
+/// weighted by the points' weights); with `turn`, only the slide is fitted.
+Planar fit(const std::vector<PlanarPoint>& points, const std::vector<Landmark>& landmarks, const std::vector<int>& which,
+           std::optional<double> turn = std::nullopt) {
   Eigen::Vector2d cm = Eigen::Vector2d::Zero(), lm = Eigen::Vector2d::Zero();
-  int n = 0;
+  double n = 0;
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (which[i] >= 0) cm += points[i].xy, lm += landmarks[std::size_t(which[i])].xy, ++n;
+    if (which[i] >= 0) {
+      const double w = points[i].weight;
+      cm += w * points[i].xy, lm += w * landmarks[std::size_t(which[i])].xy, n += w;
+    }
   cm /= n, lm /= n;
   double s = 0, c = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (which[i] < 0) continue;
     const Eigen::Vector2d p = points[i].xy - cm, q = landmarks[std::size_t(which[i])].xy - lm;
-    c += q.x() * p.x() + q.y() * p.y();
-    s += q.y() * p.x() - q.x() * p.y();
+    c += points[i].weight * (q.x() * p.x() + q.y() * p.y());
+    s += points[i].weight * (q.y() * p.x() - q.x() * p.y());
   }
   Planar g;
-  g.theta = std::atan2(s, c);
+  g.theta = turn ? *turn : std::atan2(s, c);
   g.t = lm - Eigen::Rotation2Dd(g.theta) * cm;
   return g;
 }
@@ -95,19 +102,26 @@ Pose table_from(const TablePlane& plane) {
   return A;
 }
 
-std::vector<PlanarPoint> upright_cylinders(const std::vector<Segment>& segments, const TablePlane& plane,
-                                           const LandmarkOptions& o) {
+std::vector<PlanarPoint> landmark_points(const std::vector<Segment>& segments, const TablePlane& plane,
+                                         const LandmarkOptions& o) {
   std::vector<PlanarPoint> out;
   const Pose A = table_from(plane);
   const double cos_tilt = std::cos(o.max_tilt_deg * kPi / 180.0);
   for (const auto& s : segments) {
+    if (s.cls == PrimitiveClass::Torus) {
+      // a handle-sized ring: its centre dropped onto the table
+      if (s.inliers < o.min_ring_inliers || s.radius < 0.01 || s.radius > 0.08 || s.minor_radius > 0.02) continue;
+      const Eigen::Vector3d foot = s.point - plane.normal * (plane.normal.dot(s.point) + plane.d);
+      out.push_back({(A * foot).head<2>(), s.radius, PrimitiveClass::Torus, o.ring_weight});
+      continue;
+    }
     if (s.cls != PrimitiveClass::Cylinder || s.inward || s.inliers < o.min_inliers) continue;
     if (s.radius < o.min_radius || s.radius > o.max_radius) continue;
     const double along = plane.normal.dot(s.axis);
     if (std::abs(along) < cos_tilt) continue;
     // where the axis meets the table
     const Eigen::Vector3d foot = s.point - s.axis * ((plane.normal.dot(s.point) + plane.d) / along);
-    out.push_back({(A * foot).head<2>(), s.radius});
+    out.push_back({(A * foot).head<2>(), s.radius, PrimitiveClass::Cylinder, 1.0});
   }
   return out;
 }
@@ -131,7 +145,7 @@ LandmarkFix locate(const LandmarkMap& map, const TablePlane& plane, const std::v
   g0.theta = std::atan2(M.linear()(1, 0), M.linear()(0, 0));
   g0.t = M.translation().head<2>();
 
-  const auto points = upright_cylinders(segments, plane, o);
+  const auto points = landmark_points(segments, plane, o);
   const auto& L = map.landmarks;
   fix.observed = int(points.size());
   // candidates: the guess and every motion two matched pairs give; most matches wins, then the
@@ -145,9 +159,9 @@ LandmarkFix locate(const LandmarkMap& map, const TablePlane& plane, const std::v
       const Eigen::Vector2d dc = points[i2].xy - points[i1].xy;
       if (dc.norm() < 0.03) continue;
       for (std::size_t j1 = 0; j1 < L.size(); ++j1) {
-        if (!same_radius(points[i1].radius, L[j1].radius, o)) continue;
+        if (!same_kind(points[i1], L[j1], o)) continue;
         for (std::size_t j2 = 0; j2 < L.size(); ++j2) {
-          if (j2 == j1 || !same_radius(points[i2].radius, L[j2].radius, o)) continue;
+          if (j2 == j1 || !same_kind(points[i2], L[j2], o)) continue;
           const Eigen::Vector2d dl = L[j2].xy - L[j1].xy;
           if (std::abs(dl.norm() - dc.norm()) > 2 * o.match_distance) continue;
           Planar g;
@@ -170,10 +184,18 @@ LandmarkFix locate(const LandmarkMap& map, const TablePlane& plane, const std::v
       if (w2 == which) break;
       which = w2;
     }
-  } else if (fix.matched == 1) {
-    // one landmark: the guess's turn, the slide that puts the point on it
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (which[i] >= 0) best.theta = g0.theta, best.t = L[std::size_t(which[i])].xy - Eigen::Rotation2Dd(g0.theta) * points[i].xy;
+  }
+  // the turn: two axes fix it; rings, fitted less precisely, only bound the guess's (it stays
+  // within `ring_turn_tolerance_deg` of theirs); one point leaves it to the guess. Then the slide.
+  int axes = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) axes += which[i] >= 0 && points[i].cls == PrimitiveClass::Cylinder;
+  if (fix.matched >= 1 && axes < 2) {
+    double turn = g0.theta;
+    if (fix.matched >= 2) {
+      const double d = std::remainder(best.theta - g0.theta, 2 * kPi), tolerance = o.ring_turn_tolerance_deg * kPi / 180.0;
+      if (std::abs(d) > tolerance) turn += d - std::copysign(tolerance, d);
+    }
+    best = fit(points, L, which, turn);
   }
   fix.camera_to_world = Aw.inverse() * planar_pose(best) * Ac;
   return fix;
@@ -183,16 +205,16 @@ void add_to_map(LandmarkMap& map, const TablePlane& plane, const std::vector<Seg
                 const Pose& camera_to_world, const LandmarkOptions& o) {
   if (!map.table) map.table = in_world(plane, camera_to_world);
   const Pose M = table_from(*map.table) * camera_to_world * table_from(plane).inverse();
-  for (const auto& p : upright_cylinders(segments, plane, o)) {
+  for (const auto& p : landmark_points(segments, plane, o)) {
     const Eigen::Vector2d w = (M * Eigen::Vector3d(p.xy.x(), p.xy.y(), 0.0)).head<2>();
     Landmark* near = nullptr;
     double best = o.match_distance;
     for (auto& l : map.landmarks) {
       const double e = (l.xy - w).norm();
-      if (e < best && same_radius(p.radius, l.radius, o)) best = e, near = &l;
+      if (e < best && same_kind(p, l, o)) best = e, near = &l;
     }
     if (!near) {
-      map.landmarks.push_back({w, p.radius, 1});
+      map.landmarks.push_back({w, p.radius, p.cls, 1});
       continue;
     }
     // a running mean that keeps following slowly (at most 20 views' weight)

@@ -27,6 +27,13 @@ Eigen::Matrix<double, kPerPart, 1> params(const Segment& s) {
   return v;
 }
 
+/// The variance of a part's measured parameters: `measurement_noise` at 1 m for a fit to
+/// `reference_inliers` pixels, growing as z^2 and falling as 1/sqrt(inliers).
+double measurement_variance(const Segment& part, double distance, const TrackOptions& o) {
+  const double inliers = part.inliers > 0 ? double(part.inliers) : o.reference_inliers;
+  return std::pow(o.measurement_noise * distance * distance, 2) * o.reference_inliers / inliers;
+}
+
 /// The track's body (its first part).
 const Segment& track_body(const Track& t) { return t.parts.front().world; }
 
@@ -306,14 +313,14 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     }
     add_evidence(t, delta);
     // Kalman update of the parts that hold (static model: the prediction only adds process noise)
-    const double r = std::pow(o.measurement_noise * distance[support] * distance[support], 2);
     for (std::size_t p = 0; p < t.parts.size(); ++p) {
       if (reanchor[p]) {
         t.x.segment<kPerPart>(kPerPart * p) = params(t.parts[p].world);
-        t.P.segment<kPerPart>(kPerPart * p).setConstant(r);
+        t.P.segment<kPerPart>(kPerPart * p).setConstant(measurement_variance(t.parts[p].world, distance[support], o));
       }
       if (!fuse[p]) continue;
       const Segment& m = *fuse[p];
+      const double r = measurement_variance(m, distance[support], o);
       auto z = params(m);
       Segment& w = t.parts[p].world;
       if (w.cls == PrimitiveClass::Cylinder) {
@@ -325,7 +332,8 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
       }
       for (int i = 0; i < kPerPart; ++i) {
         const int j = kPerPart * int(p) + i;
-        t.P(j) += o.process_noise * o.process_noise;
+        const double q = i == 3 || i == 4 ? o.shape_noise : o.process_noise;  // radius, minor radius
+        t.P(j) += q * q;
         const double gain = t.P(j) / (t.P(j) + r);
         t.x(j) += gain * (z(i) - t.x(j));
         t.P(j) *= 1 - gain;
@@ -369,12 +377,11 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     std::stable_partition(order.begin(), order.end(), [&](int i) { return ob.parts[std::size_t(i)].first == "body"; });
     t.x.resize(kPerPart * int(order.size()));
     t.P.resize(kPerPart * int(order.size()));
-    const double r = std::pow(o.measurement_noise * distance[k] * distance[k], 2);
     for (std::size_t p = 0; p < order.size(); ++p) {
       const auto& [role, part] = ob.parts[std::size_t(order[p])];
       t.parts.push_back({role, part, segment_of(ob, order[p]), part});
       t.x.segment<kPerPart>(kPerPart * p) = params(part);
-      t.P.segment<kPerPart>(kPerPart * p).setConstant(r);
+      t.P.segment<kPerPart>(kPerPart * p).setConstant(measurement_variance(part, distance[k], o));
     }
     tracks_.push_back(std::move(t));
   }

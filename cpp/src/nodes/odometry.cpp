@@ -25,7 +25,7 @@ graph::NodeSpec odometry_node() {
   graph::NodeSpec s;
   s.kind = "odometry";
   s.doc = "Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world), "
-          "corrected against the table and the upright cylinders on it when those are connected.";
+          "corrected against the table and the upright cylinders (and handles) on it when those are connected.";
   s.inputs = {{"frame", "Frame", "an RGB-D frame"},
               {"plane", "SupportPlane", "the frame's table: the landmarks' plane (with segments)", false},
               {"segments", "Segments", "the frame's segments: its upright cylinders are landmarks", false}};

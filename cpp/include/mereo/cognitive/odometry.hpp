@@ -2,7 +2,7 @@
 // OpenCV's RGB-D odometry (the contrib rgbd module: Steinbruecker et al.'s photometric and
 // geometric alignment, RgbdICPOdometry), for inputs that carry no poses; corrected, when the
 // frame's table plane and segments are given, against a map of the table and the upright
-// cylinders on it (landmarks.hpp): frame-to-frame ICP slides along an untextured table and
+// cylinders and handles on it (landmarks.hpp): frame-to-frame ICP slides along an untextured table and
 // accumulates drift, the landmarks do neither.
 #pragma once
 

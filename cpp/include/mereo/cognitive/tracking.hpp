@@ -65,12 +65,14 @@ struct TrackOptions {
   double floor = -10.0;                 ///< the log-odds held against a rejected hypothesis at most
   int max_missed = 30;                  ///< frames unseen before a track is dropped
   double report = 0.5;                  ///< probability at which a track is reported
-  double measurement_noise = 0.002;     ///< sigma of a measured parameter at 1 m (grows as z^2)
+  double measurement_noise = 0.002;     ///< sigma of a measured parameter at 1 m (grows as z^2) ...
+  double reference_inliers = 1000;      ///< ... for a fit to this many pixels (falls as 1/sqrt(inliers))
   double depth_tolerance = 0.01;        ///< visibility: a surface within this of a part's is the part, metres
   double visible_pixels = 300;          ///< a part this large in the image (pixels) gives a full contradiction
   int turn_views = 8;                   ///< a handle's surroundings: the last views fitted together
   double max_handle_turn_deg = 25.0;    ///< ... a ring turned further from the body's axis is no handle
-  double process_noise = 0.0003;        ///< sigma per frame
+  double process_noise = 0.0003;        ///< sigma per frame of a part's place and height (its visible extent)
+  double shape_noise = 0.00002;         ///< ... of its radii: a rigid object's do not change, views average
 };
 
 /// One object hypothesis of a frame (camera frame).

@@ -31,16 +31,15 @@ cv::Mat to_mat(const Pose& P) {
 /// How many of the source's points (every 4th pixel) land, moved by Rt, within 1 cm of the
 /// destination's depth at their projection.
 int alignment(const cv::Mat& src, const cv::Mat& dst, const Intrinsics& K, const Pose& Rt) {
-  const Eigen::Matrix4d M = Rt.matrix();
   int n = 0;
   for (int v = 0; v < src.rows; v += 4)
     for (int u = 0; u < src.cols; u += 4) {
       const float z = src.at<float>(v, u);
       if (!(z > 0)) continue;
-      const Eigen::Vector4d p((u - K.cx) * z / K.fx, (v - K.cy) * z / K.fy, z, 1.0);
-      const Eigen::Vector4d q = M * p;
+      const Eigen::Vector3d q = Rt * K.point(u, v, z);
       if (!(q.z() > 0)) continue;
-      const int uu = int(std::lround(K.fx * q.x() / q.z() + K.cx)), vv = int(std::lround(K.fy * q.y() / q.z() + K.cy));
+      const Eigen::Vector2i px = K.pixel(q);
+      const int uu = px.x(), vv = px.y();
       if (uu < 0 || vv < 0 || uu >= dst.cols || vv >= dst.rows) continue;
       const float d = dst.at<float>(vv, uu);
       n += d > 0 && std::abs(d - q.z()) < 0.01;

@@ -34,6 +34,9 @@ double measurement_variance(const Segment& part, double distance, const TrackOpt
   return std::pow(o.measurement_noise * distance * distance, 2) * o.reference_inliers / inliers;
 }
 
+/// `q`'s component across the unit `axis` (its distance from the axis is this one's norm).
+Eigen::Vector3d across(const Eigen::Vector3d& q, const Eigen::Vector3d& axis) { return q - axis * axis.dot(q); }
+
 /// The track's body (its first part).
 const Segment& track_body(const Track& t) { return t.parts.front().world; }
 
@@ -42,9 +45,8 @@ bool same_body(const Segment& a, const Segment& b, const TrackOptions& o) {
   const Eigen::Vector3d d = a.point - b.point;
   // cylinders: the centres' distance across the axis (the visible extent, hence the centre along
   // the axis, changes with the view); spheres and others: the centres' distance
-  const double across = a.cls == PrimitiveClass::Cylinder ? (d - a.axis.normalized() * a.axis.normalized().dot(d)).norm()
-                                                          : d.norm();
-  return across <= o.max_distance && std::abs(a.radius - b.radius) <= o.max_radius_difference;
+  const double apart = a.cls == PrimitiveClass::Cylinder ? across(d, a.axis.normalized()).norm() : d.norm();
+  return apart <= o.max_distance && std::abs(a.radius - b.radius) <= o.max_radius_difference;
 }
 
 /// The index of `role` among the observation's parts, -1 if absent.
@@ -62,16 +64,14 @@ int segment_of(const Observation& o, int k) { return k >= 0 && std::size_t(k) < 
 /// The height is the centre's own, not relative to the body's centre: a cylinder's centre is the
 /// middle of its visible extent, which moves when something hides its lower or upper part.
 Eigen::Vector3d offset(const Segment& part, const Segment& body, const Eigen::Vector3d& axis) {
-  const Eigen::Vector3d q = part.point - body.point;
-  return q - axis * axis.dot(q) + axis * axis.dot(part.point);
+  return across(part.point - body.point, axis) + axis * axis.dot(part.point);
 }
 
 /// This view's points around the track's handles, fitted with those of the last views (world
 /// frame): `drifted` for each handle whose ring would rather turn away from the body's axis.
 double handle_evidence(Track& t, const DepthImage& depth, const Intrinsics& K, const Pose& camera_to_world,
-                       const TrackOptions& o) {
+                       const Pose& to_camera, const TrackOptions& o) {
   double delta = 0.0;
-  const Pose to_camera = camera_to_world.inverse();
   const Segment& body = track_body(t);
   const Segment body_camera = transformed(body, to_camera);
   for (std::size_t p = 1; p < t.parts.size(); ++p) {
@@ -85,12 +85,10 @@ double handle_evidence(Track& t, const DepthImage& depth, const Intrinsics& K, c
     if (part.recent_points.size() < 2) continue;
     std::vector<Eigen::Vector3d> all;
     for (const auto& v : part.recent_points) all.insert(all.end(), v.begin(), v.end());
-    // the ring with the plane held (the tube too, if letting it go makes it implausibly fat:
-    // a fat tube can swallow a turned ring)
-    Segment held = features::detail::refit_handle(body, part.world, all);
-    const bool plausible = held.minor_radius >= 0.002 && held.minor_radius <= 0.012 && held.radius >= 0.01 &&
-                           held.radius <= 0.08;
-    if (!plausible) held = features::detail::refit_handle(body, part.world, all, true);
+    // the ring with the plane held (the tube too, if letting it go makes it implausibly fat)
+    const Segment held = features::detail::refit_handle_or_hold(body, part.world, all, [](const Segment& s) {
+      return s.minor_radius >= 0.002 && s.minor_radius <= 0.012 && s.radius >= 0.01 && s.radius <= 0.08;
+    });
     const auto turn = features::detail::handle_turn(body, held, all);
     if (std::abs(turn.turn_deg) > o.max_handle_turn_deg && turn.rms_turned < 0.6 * turn.rms_held) delta += o.drifted;
   }
@@ -106,15 +104,15 @@ std::vector<Eigen::Vector3d> points_around(const Segment& part, const Segment& b
   if (depth.empty() || c.z() < 0.1) return out;
   const double reach = (part.cls == PrimitiveClass::Torus ? part.radius + part.minor_radius : part.radius) + margin;
   const Eigen::Vector3d a = body.axis.normalized();
-  const int u0 = int(std::lround(K.fx * c.x() / c.z() + K.cx)), v0 = int(std::lround(K.fy * c.y() / c.z() + K.cy));
+  const Eigen::Vector2i c_px = K.pixel(c);
+  const int u0 = c_px.x(), v0 = c_px.y();
   const int w = int(std::ceil(K.fx * reach / std::max(0.1, c.z() - reach)));
   for (int v = std::max(0, v0 - w); v <= std::min(depth.rows() - 1, v0 + w); ++v)
     for (int u = std::max(0, u0 - w); u <= std::min(depth.cols() - 1, u0 + w); ++u) {
       const double z = depth(v, u);
       if (!std::isfinite(z) || z <= 0) continue;
-      const Eigen::Vector3d p((u - K.cx) * z / K.fx, (v - K.cy) * z / K.fy, z);
-      const Eigen::Vector3d q = p - body.point;
-      if ((p - c).norm() > reach || (q - a * a.dot(q)).norm() < body.radius + margin) continue;
+      const Eigen::Vector3d p = K.point(u, v, z);
+      if ((p - c).norm() > reach || across(p - body.point, a).norm() < body.radius + margin) continue;
       out.push_back(p);
     }
   if (out.size() > max_points) {
@@ -153,9 +151,8 @@ Visibility part_visibility(const Segment& part, const Segment& body, const Depth
     for (int k = 0; k < kSamples; ++k) {
       const double phi = 2 * M_PI * k / kSamples;
       const Eigen::Vector3d p = part.point + part.radius * (std::cos(phi) * e1 + std::sin(phi) * e2);
-      const Eigen::Vector3d q = p - body.point;
       // inside the body, or so close to its wall that the wall would pass for the part
-      if ((q - a * a.dot(q)).norm() < body.radius + part.minor_radius + tolerance) continue;
+      if (across(p - body.point, a).norm() < body.radius + part.minor_radius + tolerance) continue;
       points.push_back(p);
     }
     thickness = part.minor_radius;
@@ -171,7 +168,8 @@ Visibility part_visibility(const Segment& part, const Segment& body, const Depth
       ++v.unknown;
       continue;
     }
-    const int u = int(std::lround(K.fx * p.x() / p.z() + K.cx)), r = int(std::lround(K.fy * p.y() / p.z() + K.cy));
+    const Eigen::Vector2i px = K.pixel(p);
+    const int u = px.x(), r = px.y();
     const int w = std::clamp(int(std::ceil(K.fx * (thickness + 0.004) / p.z())), 1, 8);
     int near = 0, front = 0, behind = 0;
     for (int y = std::max(0, r - w); y <= std::min(depth.rows() - 1, r + w); ++y)
@@ -213,6 +211,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     if (const Segment* b = body_of(observations[k])) distance[k] = std::max(0.3, b->point.z());
   }
   std::vector<bool> used(world.size(), false);
+  const Pose to_camera = camera_to_world.inverse();
   // evidence in log-odds, bounded: at most `floor` against a hypothesis, 20 for it
   auto add_evidence = [&o](Track& t, double delta) { t.log_odds = std::clamp(t.log_odds + delta, o.floor, 20.0); };
 
@@ -232,7 +231,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     t.seen = seen;
     // a handle's surroundings, whether or not this view found its body
     if (depth && !depth->empty()) {
-      const double ring = handle_evidence(t, *depth, intrinsics, camera_to_world, o);
+      const double ring = handle_evidence(t, *depth, intrinsics, camera_to_world, to_camera, o);
       if (ring != 0) add_evidence(t, ring);
     }
     if (!seen) {
@@ -244,7 +243,6 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     if (support < 0) {
       // the body is there but not taken for this model: a contradiction, as strong as the view
       // shows the parts that would make the difference where the track holds them
-      const Pose to_camera = camera_to_world.inverse();
       std::vector<std::string> roles;  // the parts of the model the view took the body for
       for (std::size_t k = 0; k < world.size(); ++k)
         if (world[k].accepted && body_of(world[k]) && same_body(*body_of(world[k]), track_body(t), o))
@@ -379,7 +377,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     t.P.resize(kPerPart * int(order.size()));
     for (std::size_t p = 0; p < order.size(); ++p) {
       const auto& [role, part] = ob.parts[std::size_t(order[p])];
-      t.parts.push_back({role, part, segment_of(ob, order[p]), part});
+      t.parts.push_back({role, part, segment_of(ob, order[p]), part, std::nullopt, {}});
       t.x.segment<kPerPart>(kPerPart * p) = params(part);
       t.P.segment<kPerPart>(kPerPart * p).setConstant(measurement_variance(part, distance[k], o));
     }

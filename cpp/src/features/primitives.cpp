@@ -490,8 +490,8 @@ std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::v
       return pts;
     };
     auto refit_to = [&](const std::vector<Eigen::Vector3d>& pts) {
-      const Segment free_fit = detail::refit_handle(body, best, pts);
-      return plausible(free_fit, f.o, f.o.max_major_radius, 0.0) ? free_fit : detail::refit_handle(body, best, pts, true);
+      return detail::refit_handle_or_hold(body, best, pts,
+                                          [&](const Segment& s) { return plausible(s, f.o, f.o.max_major_radius, 0.0); });
     };
     for (int round = 0; round < 2; ++round) {
       best = refit_to(points_of(best_pix));

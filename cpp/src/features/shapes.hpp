@@ -40,6 +40,15 @@ Segment refit_points(const Segment& s, const std::vector<Eigen::Vector3d>& point
 Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
                      bool fix_minor = false);
 
+/// refit_handle with the tube free when that fit passes `plausible`, else with the tube held (a
+/// fat tube can swallow a turned ring).
+template <class Plausible>
+Segment refit_handle_or_hold(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
+                             Plausible plausible) {
+  Segment free_fit = refit_handle(body, t0, points);
+  return plausible(free_fit) ? free_fit : refit_handle(body, t0, points, true);
+}
+
 /// How a handle's ring plane would rather turn about the body's axis (0: it holds the axis, as a
 /// handle's does; a ring leaning on a jar is turned): the fit of refit_handle (tube held) with the
 /// turn free as well, against the fit with the plane held.

@@ -103,7 +103,8 @@ namespace {
 /// Pixel of a camera-frame point; nullopt behind the camera.
 std::optional<cv::Point> project(const Intrinsics& K, const Eigen::Vector3d& x) {
   if (!(x.z() > 1e-3)) return std::nullopt;
-  return cv::Point(int(std::lround(K.fx * x.x() / x.z() + K.cx)), int(std::lround(K.fy * x.y() / x.z() + K.cy)));
+  const Eigen::Vector2i px = K.pixel(x);
+  return cv::Point(px.x(), px.y());
 }
 
 /// A circle of `radius` about `centre` in the plane normal to `axis`, as an image polyline.

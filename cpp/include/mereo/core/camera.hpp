@@ -1,6 +1,7 @@
 // mereo/core/camera.hpp: pinhole intrinsics and the camera pose.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -16,6 +17,12 @@ struct Intrinsics {
   double cy = 239.5;
 
   bool valid() const { return fx > 0 && fy > 0; }
+  /// The pixel (u, v) a camera-frame point projects to, rounded; `x.z()` must be positive.
+  Eigen::Vector2i pixel(const Eigen::Vector3d& x) const {
+    return {int(std::lround(fx * x.x() / x.z() + cx)), int(std::lround(fy * x.y() / x.z() + cy))};
+  }
+  /// The camera-frame point seen at pixel (u, v) with depth z.
+  Eigen::Vector3d point(double u, double v, double z) const { return {(u - cx) * z / fx, (v - cy) * z / fy, z}; }
   bool operator==(const Intrinsics& o) const {
     return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy;
   }

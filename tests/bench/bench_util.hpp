@@ -1,9 +1,11 @@
-// Small helpers shared by the benchmarks: a millisecond clock and the median.
+// Small helpers shared by the benchmarks: a millisecond clock, the median, JSON numbers.
 #pragma once
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 namespace mereo::bench {
@@ -18,6 +20,14 @@ inline double median(std::vector<double> v) {
   if (v.empty()) return NAN;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
+}
+
+/// x as a JSON number with `decimals` decimals; null when it is not finite (no figure).
+inline std::string json_number(double x, int decimals = 3) {
+  if (!std::isfinite(x)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, x);
+  return buf;
 }
 
 }  // namespace mereo::bench

@@ -44,6 +44,18 @@ struct SyntheticScore {
   int handles = 0, handles_found = 0;      ///< mug handles with >= min_handle_pixels within 1.2 m
   int false_cylinders = 0, false_tori = 0;
   std::vector<double> radius_err_mm, axis_err_deg;  ///< of the found bodies
+  /// ... and per found body its distance from the camera (m) and signed radius error (mm): a
+  /// fit's bias shows as a mean that grows with distance.
+  std::vector<std::pair<double, double>> radius_bias;
+
+  /// Mean signed radius error (mm) of the found bodies whose distance is in [near, far); NAN if none.
+  double mean_radius_bias_mm(double near, double far) const {
+    double sum = 0;
+    int n = 0;
+    for (const auto& [d, e] : radius_bias)
+      if (d >= near && d < far) sum += e, ++n;
+    return n ? sum / n : NAN;
+  }
   std::vector<double> handle_minor_err_mm;          ///< of the found handles
   std::vector<std::string> missed;                  ///< "seed:model:role (pixels)"
 
@@ -101,6 +113,7 @@ inline void score_synthetic(const synthetic::GroundTruth& gt, const std::vector<
         }
         ++acc.bodies_found;
         acc.radius_err_mm.push_back(1000 * std::abs(it->second->radius - p.camera.radius));
+        acc.radius_bias.emplace_back(p.camera.point.norm(), 1000 * (it->second->radius - p.camera.radius));
         acc.axis_err_deg.push_back(axis_angle_deg(it->second->axis, p.camera.axis));
       }
       if (o.model == "mug" && p.role == "handle" && p.visible_pixels >= min_handle_pixels &&

@@ -60,6 +60,12 @@ struct Pixels {
     const float* q = cloud.data() + 3 * std::size_t(i);
     return Eigen::Vector3d(q[0], q[1], q[2]);
   }
+  /// The unfiltered point of pixel i (DetectOptions::unfiltered) where it has one, else p(i).
+  Eigen::Vector3d raw(int i) const {
+    if (o.unfiltered.empty()) return p(i);
+    const float* q = o.unfiltered.data() + 3 * std::size_t(i);
+    return finite3(q) ? Eigen::Vector3d(q[0], q[1], q[2]) : p(i);
+  }
   Eigen::Vector3d n(int i) const { return Eigen::Vector3d(normals.data()[3 * i], normals.data()[3 * i + 1], normals.data()[3 * i + 2]); }
   double eps(double z) const { return o.epsilon * std::max(0.3, 1 + o.epsilon_growth * (z * z - 1)); }
   /// +1 when pixel i's normal agrees with the outward normal of s at its closest point, -1 when it
@@ -347,16 +353,25 @@ void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImag
   }
 }
 
+/// Least-squares refit of s to the points of `pix`: cylinders and spheres to the unfiltered points
+/// (DetectOptions::unfiltered), along the rays (fit_along_rays); other classes to the cloud's
+/// points by geometric distance.
+Segment measure(const Pixels& f, const Segment& s, const std::vector<int>& pix) {
+  const bool curved = s.cls == PrimitiveClass::Cylinder || s.cls == PrimitiveClass::Sphere;
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(pix.size());
+  for (int i : pix) pts.push_back(curved ? f.raw(i) : f.p(i));
+  const bool along = curved && f.o.fit_along_rays;
+  return detail::refit_points(s, pts, along ? detail::Residual::AlongRay : detail::Residual::Geometric);
+}
+
 /// The segment of a candidate: refit to its full-resolution component twice, with extent,
 /// colour and pixels. Empty pixels when it does not hold.
 Segment finish(const Pixels& f, Segment s, int seed, const ColorImage* color, const std::uint8_t* mask) {
   for (int round = 0; round < 2; ++round) {
     const auto pix = f.component(s, seed, 1, mask);
     if (pix.size() < 6) return Segment{};
-    std::vector<Eigen::Vector3d> pts;
-    pts.reserve(pix.size());
-    for (int i : pix) pts.push_back(f.p(i));
-    s = detail::refit_points(s, pts);
+    s = measure(f, s, pix);
   }
   auto pix = f.component(s, seed, 1, mask);
   if (pix.size() < 6) return Segment{};
@@ -372,9 +387,7 @@ Segment finish(const Pixels& f, Segment s, int seed, const ColorImage* color, co
       Segment c = s;
       c.cls = PrimitiveClass::Cylinder;
       c.axis = es.eigenvectors().col(0);
-      std::vector<Eigen::Vector3d> pts;
-      for (int i : pix) pts.push_back(f.p(i));
-      c = detail::refit_points(c, pts);
+      c = measure(f, c, pix);
       auto cpix = f.component(c, seed, 1, mask);
       if (cpix.size() >= pix.size()) s = c, pix = std::move(cpix);
     }
@@ -519,6 +532,8 @@ void check(const Cloud& cloud, const NormalMap& normals, const DetectOptions& o)
                      " and normals " + std::to_string(normals.cols()) + "x" + std::to_string(normals.rows()) +
                      " differ in size");
   if (!o.roi.empty() && !o.roi.same_size(cloud)) throw InputError("detect_primitives: roi and cloud differ in size");
+  if (!o.unfiltered.empty() && !o.unfiltered.same_size(cloud))
+    throw InputError("detect_primitives: the unfiltered points and the cloud differ in size");
   if (!(o.epsilon > 0) || o.min_support < 1 || o.min_support_torus < 1 || o.score_step < 1 ||
       o.candidates_per_iteration < 1 || o.max_iterations < 0 || !(o.min_radius > 0) || o.max_radius <= o.min_radius ||
       !(o.min_minor_radius > 0) || o.max_minor_radius <= o.min_minor_radius)
@@ -530,7 +545,9 @@ void check(const Cloud& cloud, const NormalMap& normals, const DetectOptions& o)
 
 double surface_distance(const Segment& s, const Eigen::Vector3d& x) { return std::abs(signed_distance(s, x)); }
 
-Segment refit(const Segment& s, const std::vector<Eigen::Vector3d>& points) { return detail::refit_points(s, points); }
+Segment refit(const Segment& s, const std::vector<Eigen::Vector3d>& points, bool along_rays) {
+  return detail::refit_points(s, points, along_rays ? detail::Residual::AlongRay : detail::Residual::Geometric);
+}
 
 SearchRegion region_near(const Segment& segment, double margin) {
   SearchRegion r;

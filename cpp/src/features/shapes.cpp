@@ -240,7 +240,29 @@ void set_residual(Segment& s, const std::vector<Eigen::Vector3d>& points) {
 
 }  // namespace
 
-Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& points) {
+double range_residual(const Segment& s, const Eigen::Vector3d& x) {
+  if (s.cls != PrimitiveClass::Cylinder && s.cls != PrimitiveClass::Sphere) return signed_distance(s, x);
+  const double range = x.norm();
+  if (!(range > 0)) return signed_distance(s, x);
+  const Eigen::Vector3d d = x / range;
+  // across the axis (a sphere: all of it): the ray t*w against the circle of centre c, radius r
+  Eigen::Vector3d w = d, c = s.point;
+  if (s.cls == PrimitiveClass::Cylinder) w -= s.axis * s.axis.dot(d), c -= s.axis * s.axis.dot(s.point);
+  const double ww = w.squaredNorm(), wc = w.dot(c);
+  const double disc = wc * wc - ww * (c.squaredNorm() - s.radius * s.radius);  // (r cos(incidence))^2 * ww
+  // Grazing rays (incidence past ~80 degrees, or a miss): the range is ill-defined there; the
+  // distance along the normal, turned into range at that incidence, continues it.
+  constexpr double kMinCos = 0.17;
+  const double cos_in = disc > 0 && ww > 0 ? std::sqrt(disc / ww) / s.radius : 0.0;
+  if (cos_in < kMinCos || ww < 1e-12) return signed_distance(s, x) / (kMinCos * std::sqrt(std::max(ww, 1e-12)));
+  // the crossing nearer the point: the near one on an outer wall, the far one on an inner wall
+  // (beyond the near crossing is inside the shape, beyond the far one outside: signed_distance's
+  // sign)
+  const double near = (wc - std::sqrt(disc)) / ww, far = (wc + std::sqrt(disc)) / ww;
+  return std::abs(range - near) <= std::abs(range - far) ? near - range : range - far;
+}
+
+Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& points, Residual residual) {
   Segment s = s0;
   if (points.size() < 4) return s;
   if (s.cls == PrimitiveClass::Plane) {
@@ -260,7 +282,10 @@ Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& poin
     const int N = int(pts.size());
     levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
       const Segment t = unpack(s0, v);
-      for (int i = 0; i < N; ++i) r(i) = signed_distance(t, pts[i]);
+      if (residual == Residual::AlongRay)
+        for (int i = 0; i < N; ++i) r(i) = range_residual(t, pts[i]);
+      else
+        for (int i = 0; i < N; ++i) r(i) = signed_distance(t, pts[i]);
     });
     s = unpack(s0, x);
   }

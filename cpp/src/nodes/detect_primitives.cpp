@@ -7,11 +7,14 @@
 //     - cloud.cloud -> primitives.cloud
 //     - normals.normals -> primitives.normals
 //     - table.roi -> primitives.roi          # optional: only the points above the table
-//     - source.frame -> primitives.frame     # optional: colour for the segments' hue
+//     - source.frame -> primitives.frame     # optional: colour for the segments' hue, and the
+//                                            # unfiltered depth that cylinders and spheres are
+//                                            # measured on (when the cloud's depth is filtered)
 #include <sstream>
 
 #include "mereo/core/error.hpp"
 #include "mereo/core/frame.hpp"
+#include "mereo/extension/projection.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/primitives.hpp"
 #include "nodes/registry.hpp"
@@ -27,7 +30,7 @@ graph::NodeSpec detect_primitives_node() {
   s.inputs = {{"cloud", "Cloud", "organized XYZ cloud"},
               {"normals", "NormalMap", "per-pixel normals"},
               {"roi", "Mask", "only these pixels (e.g. above the table)", false},
-              {"frame", "Frame", "the frame, for the segments' colour", false}};
+              {"frame", "Frame", "the unfiltered frame: the segments' colour; cylinders and spheres measured on its depth", false}};
   s.outputs = {{"segments", "Segments", "the primitives with parameters and inlier pixels"}};
   s.options = {
       {"seed", OptionType::Int, 0LL, 0, 1e15, {}, "the only source of randomness"},
@@ -43,6 +46,8 @@ graph::NodeSpec detect_primitives_node() {
        "... whose radius is at least this, metres"},
       {"handle_body_max_radius", OptionType::Double, def.handle_body_max_radius, 0, 1, {},
        "... and at most this"},
+      {"fit_along_rays", OptionType::Bool, def.fit_along_rays, 0, 0, {},
+       "fit cylinders and spheres along the rays (depth noise along them); false: by geometric distance"},
       {"max_handle_turn_deg", OptionType::Double, def.max_handle_turn_deg, 0, 90, {},
        "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"},
   };
@@ -69,10 +74,16 @@ graph::NodeSpec detect_primitives_node() {
     d.handle_body_min_radius = o.get_double("handle_body_min_radius");
     d.handle_body_max_radius = o.get_double("handle_body_max_radius");
     d.max_handle_turn_deg = o.get_double("max_handle_turn_deg");
+    d.fit_along_rays = o.get_bool("fit_along_rays");
     return graph::NodeBody([d](graph::NodeContext& ctx) {
       features::DetectOptions q = d;
       if (ctx.has_input("roi")) q.roi = ctx.input<extension::Mask>("roi");
-      const ColorImage* color = ctx.has_input("frame") ? &ctx.input<Frame>("frame").color : nullptr;
+      const ColorImage* color = nullptr;
+      if (ctx.has_input("frame")) {
+        const Frame& frame = ctx.input<Frame>("frame");
+        color = &frame.color;
+        q.unfiltered = extension::back_project(frame);
+      }
       ctx.output("segments", features::detect_primitives(ctx.input<Cloud>("cloud"), ctx.input<NormalMap>("normals"), q, color));
     });
   };

@@ -32,7 +32,7 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         cloud (Cloud): organized XYZ cloud
         normals (NormalMap): per-pixel normals
         roi (Mask, optional): only these pixels (e.g. above the table)
-        frame (Frame, optional): the frame, for the segments' colour
+        frame (Frame, optional): the unfiltered frame: the segments' colour; cylinders and spheres measured on its depth
     Outputs:
         segments (Segments): the primitives with parameters and inlier pixels
     Options:
@@ -46,6 +46,7 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         handles_near_cylinders (bool, default true): look for a torus next to every cylinder
         handle_body_min_radius (float, default 0.02, 0..1): ... whose radius is at least this, metres
         handle_body_max_radius (float, default 0.08, 0..1): ... and at most this
+        fit_along_rays (bool, default true): fit cylinders and spheres along the rays (depth noise along them); false: by geometric distance
         max_handle_turn_deg (float, default 25, 0..90): a ring that fits better turned more than this from its body's axis is not a handle (90: no check)
     """
 def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
@@ -123,7 +124,7 @@ def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     """
 def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
     """
-    Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world), corrected against the table and the upright cylinders on it when those are connected.
+    Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world), corrected against the table and the upright cylinders (and handles) on it when those are connected.
     
     Inputs:
         frame (Frame): an RGB-D frame
@@ -189,6 +190,8 @@ def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
         file (str, default ): the model file of match_models (empty: the shipped models)
         max_distance (float, default 0.03, 0.001..1): association: body centres, metres
         part_tolerance (float, default 0.01, 0.001..1): a part stays put relative to its body
+        visible_pixels (float, default 300, 1..1e+06): a missing part this large in the image (pixels, where the frame's depth shows its place) is a full contradiction
+        max_handle_turn_deg (float, default 25, 0..90): the last views around a handle fitted together: a ring turned further from the body's axis is no handle
         max_missed (int, default 30, 1..100000): frames unseen before a track is dropped
         report (float, default 0.5, 0..1): probability at which a track is reported
     """

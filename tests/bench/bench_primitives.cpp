@@ -248,23 +248,27 @@ int main(int argc, char** argv) {
       if (r < m.mosd_rows.size()) std::printf("  %-10s %s\n", m.tag.c_str(), m.mosd_rows[r].c_str());
   std::printf("\nreal mug body radius error (mm):");
   for (const Method& m : methods) std::printf("  %s %.2f", m.name.c_str(), m.mug_radius_err_mm);
-  std::printf("\nmissed by mereo:");
-  for (const auto& s : methods[0].syn.missed) std::printf(" %s;", s.c_str());
   std::printf("\n");
+  for (const Method& m : methods) {
+    if (m.tag.rfind("mereo", 0) != 0) continue;
+    std::printf("missed by %s:", m.name.c_str());
+    for (const auto& s : m.syn.missed) std::printf(" %s;", s.c_str());
+    std::printf("\n");
+  }
 
   auto figures = [](const Method& m) {
-    char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "{\"median_ms\": %.2f, \"body_recall\": %.4f, \"median_radius_error_mm\": %.3f, "
-                  "\"median_axis_error_deg\": %.3f, \"handle_recall\": %.4f, \"false_cylinders_per_frame\": %.3f, "
-                  "\"false_tori_per_frame\": %.3f, \"radius_bias_mm_near\": %s, \"radius_bias_mm_far\": %s, "
-                  "\"mosd_found\": %d, \"mosd_objects\": %d, \"mug_radius_error_mm\": %s}",
-                  median(m.ms), m.syn.body_recall(), median(m.syn.radius_err_mm), median(m.syn.axis_err_deg),
-                  m.syn.handle_recall(), m.syn.false_cylinders_per_frame(),
-                  m.syn.frames ? double(m.syn.false_tori) / m.syn.frames : NAN, bench::json_number(m.syn.mean_radius_bias_mm(0, 0.8)).c_str(),
-                  bench::json_number(m.syn.mean_radius_bias_mm(1.1, 10)).c_str(), m.mosd_found, m.mosd_objects,
-                  bench::json_number(m.mug_radius_err_mm).c_str());
-    return std::string(buf);
+    using bench::json_number;
+    const double false_tori = m.syn.frames ? double(m.syn.false_tori) / m.syn.frames : NAN;
+    return "{\"median_ms\": " + json_number(median(m.ms), 2) + ", \"body_recall\": " + json_number(m.syn.body_recall(), 4) +
+           ", \"median_radius_error_mm\": " + json_number(median(m.syn.radius_err_mm)) +
+           ", \"median_axis_error_deg\": " + json_number(median(m.syn.axis_err_deg)) +
+           ", \"handle_recall\": " + json_number(m.syn.handle_recall(), 4) +
+           ", \"false_cylinders_per_frame\": " + json_number(m.syn.false_cylinders_per_frame()) +
+           ", \"false_tori_per_frame\": " + json_number(false_tori) +
+           ", \"radius_bias_mm_near\": " + json_number(m.syn.mean_radius_bias_mm(0, 0.8)) +
+           ", \"radius_bias_mm_far\": " + json_number(m.syn.mean_radius_bias_mm(1.1, 10)) +
+           ", \"mosd_found\": " + std::to_string(m.mosd_found) + ", \"mosd_objects\": " + std::to_string(m.mosd_objects) +
+           ", \"mug_radius_error_mm\": " + json_number(m.mug_radius_err_mm) + "}";
   };
   const double vga_speedup = median(methods[1].ms_synthetic) / median(methods[0].ms_synthetic);
   std::printf("\nwhole VGA frames (synthetic): mereo %.1f ms, cgal %.1f ms: %.1fx; all frames: %.1fx; "
@@ -274,9 +278,10 @@ int main(int argc, char** argv) {
   std::printf("{\"bench\": \"primitives\", \"quick\": %s, \"synthetic_frames\": %d, \"mosd_frames\": %zu, "
               "\"mereo_frame\": %s, \"cgal_frame\": %s, \"mereo_above_table\": %s, \"pcl_above_table\": %s, "
               "\"mereo_above_table_geometric_fit\": %s, "
-              "\"speedup_vs_cgal_vga\": %.2f, \"speedup_vs_cgal\": %.2f, \"speedup_vs_pcl\": %.2f}\n",
+              "\"speedup_vs_cgal_vga\": %s, \"speedup_vs_cgal\": %s, \"speedup_vs_pcl\": %s}\n",
               quick ? "true" : "false", n_syn, files.size(), figures(methods[0]).c_str(), figures(methods[1]).c_str(),
-              figures(methods[2]).c_str(), figures(methods[3]).c_str(), figures(methods[4]).c_str(), vga_speedup,
-              median(methods[1].ms) / median(methods[0].ms), median(methods[3].ms) / median(methods[2].ms));
+              figures(methods[2]).c_str(), figures(methods[3]).c_str(), figures(methods[4]).c_str(), bench::json_number(vga_speedup, 2).c_str(),
+              bench::json_number(median(methods[1].ms) / median(methods[0].ms), 2).c_str(),
+              bench::json_number(median(methods[3].ms) / median(methods[2].ms), 2).c_str());
   return 0;
 }

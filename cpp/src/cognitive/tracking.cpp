@@ -116,9 +116,8 @@ std::vector<Eigen::Vector3d> points_around(const Segment& part, const Segment& b
       out.push_back(p);
     }
   if (out.size() > max_points) {
-    const double step = double(out.size()) / double(max_points);
     std::vector<Eigen::Vector3d> kept;
-    for (std::size_t k = 0; k < max_points; ++k) kept.push_back(out[std::size_t(k * step)]);
+    features::detail::subsample_into(out, kept, max_points);
     out = std::move(kept);
   }
   return out;

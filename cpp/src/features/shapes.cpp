@@ -178,17 +178,8 @@ Segment unpack(const Segment& like, const Eigen::VectorXd& v) {
   return s;
 }
 
-/// At most kFitPoints of `points`, evenly strided (deterministic): a least-squares fit of a few
-/// parameters gains nothing from thousands of points but time.
+/// A least-squares fit of a few parameters gains nothing from thousands of points but time.
 constexpr std::size_t kFitPoints = 600;
-const std::vector<Eigen::Vector3d>& subsample_into(const std::vector<Eigen::Vector3d>& points,
-                                                   std::vector<Eigen::Vector3d>& buffer) {
-  if (points.size() <= kFitPoints) return points;
-  buffer.clear();
-  const double stride = double(points.size()) / kFitPoints;
-  for (std::size_t k = 0; k < kFitPoints; ++k) buffer.push_back(points[std::size_t(k * stride)]);
-  return buffer;
-}
 
 /// Levenberg-Marquardt on the residuals f(x) (N of them), numerical Jacobian; x is updated.
 void levenberg_marquardt(Eigen::VectorXd& x, int N, const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& f) {
@@ -240,6 +231,15 @@ void set_residual(Segment& s, const std::vector<Eigen::Vector3d>& points) {
 
 }  // namespace
 
+const std::vector<Eigen::Vector3d>& subsample_into(const std::vector<Eigen::Vector3d>& points,
+                                                   std::vector<Eigen::Vector3d>& buffer, std::size_t max_points) {
+  if (points.size() <= max_points) return points;
+  buffer.clear();
+  const double stride = double(points.size()) / double(max_points);
+  for (std::size_t k = 0; k < max_points; ++k) buffer.push_back(points[std::size_t(k * stride)]);
+  return buffer;
+}
+
 double range_residual(const Segment& s, const Eigen::Vector3d& x) {
   if (s.cls != PrimitiveClass::Cylinder && s.cls != PrimitiveClass::Sphere) return signed_distance(s, x);
   const double range = x.norm();
@@ -278,7 +278,7 @@ Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& poin
   } else {
     Eigen::VectorXd x = pack(s);
     std::vector<Eigen::Vector3d> buffer;
-    const auto& pts = subsample_into(points, buffer);
+    const auto& pts = subsample_into(points, buffer, kFitPoints);
     const int N = int(pts.size());
     levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
       const Segment t = unpack(s0, v);
@@ -337,7 +337,7 @@ HandleTurn handle_turn(const Segment& body, const Segment& t, const std::vector<
   HandleTurn out;
   if (points.size() < 6) return out;
   std::vector<Eigen::Vector3d> buffer;
-  const auto& pts = subsample_into(points, buffer);
+  const auto& pts = subsample_into(points, buffer, kFitPoints);
   const int N = int(pts.size());
   const Eigen::VectorXd x0 = handle_params(body, t);
   Eigen::VectorXd r(N);
@@ -367,7 +367,7 @@ Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<E
   Eigen::VectorXd x = handle_params(body, t0);
   if (points.size() >= 5) {
     std::vector<Eigen::Vector3d> buffer;
-    const auto& pts = subsample_into(points, buffer);
+    const auto& pts = subsample_into(points, buffer, kFitPoints);
     const int N = int(pts.size());
     Eigen::VectorXd y = fix_minor ? Eigen::VectorXd(x.head<4>()) : x;
     levenberg_marquardt(y, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {

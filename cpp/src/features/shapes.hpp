@@ -27,6 +27,11 @@ std::optional<Segment> cylinder_from(const Eigen::Vector3d& p1, const Eigen::Vec
 std::optional<Segment> torus_from(const Eigen::Vector3d* p, const Eigen::Vector3d* n, double min_minor,
                                   double max_minor);
 
+/// At most `max_points` of `points`, evenly strided (deterministic): `points` itself when it has
+/// no more, else `buffer`, filled with them.
+const std::vector<Eigen::Vector3d>& subsample_into(const std::vector<Eigen::Vector3d>& points,
+                                                   std::vector<Eigen::Vector3d>& buffer, std::size_t max_points);
+
 /// What a least-squares refit minimises.
 ///  - Geometric: the distance of each point to the surface.
 ///  - AlongRay: cylinders and spheres, camera-frame points: the difference between each point's

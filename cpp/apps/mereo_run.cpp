@@ -19,6 +19,7 @@
 #include "mereo/core/error.hpp"
 #include "mereo/graph/graph.hpp"
 #include "mereo/io/io.hpp"
+#include "mereo/nodes/builtin.hpp"
 
 using namespace mereo;
 
@@ -44,6 +45,7 @@ void list_kinds() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  nodes::register_builtin();
   std::vector<std::string> positional;
   graph::RunOptions run;
   run.mode = graph::Mode::Parallel;

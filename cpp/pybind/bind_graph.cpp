@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include "converters.hpp"
+#include "mereo/core/frame.hpp"
 #include "mereo/graph/graph.hpp"
 #include "mereo/io/io.hpp"
 #include "numpy_view.hpp"
@@ -265,7 +266,8 @@ void bind_graph(py::module_& m) {
              return std::make_shared<FrameQueue>(capacity, overflow_from_string(overflow));
            }),
            py::arg("capacity") = 2, py::arg("overflow") = "block")
-      .def("push", &FrameQueue::push, py::arg("frame"), py::call_guard<py::gil_scoped_release>())
+      .def("push", [](FrameQueue& q, mereo::Frame frame) { return q.push(std::move(frame)); }, py::arg("frame"),
+           py::call_guard<py::gil_scoped_release>())
       .def("close", &FrameQueue::close)
       .def_property_readonly("pushed", &FrameQueue::pushed)
       .def_property_readonly("dropped", &FrameQueue::dropped);
@@ -291,7 +293,8 @@ void bind_graph(py::module_& m) {
              return ref_of(g.add(kind, name.value_or(""), options));
            },
            py::arg("kind"), py::arg("name") = py::none(),
-           "Adds a node: g.add('checksum', 'work', rounds=3) or g.add(mereo.nodes.checksum(rounds=3), 'work').")
+           "Adds a node: g.add('estimate_normals', 'normals', window=7) or "
+           "g.add(mereo.nodes.estimate_normals(window=7), 'normals').")
       .def("add_python",
            [](Graph& g, py::function fn, const std::string& name,
               const std::vector<std::pair<std::string, std::string>>& inputs,

@@ -2,6 +2,7 @@
 #include <pybind11/pybind11.h>
 
 #include "mereo/core/error.hpp"
+#include "mereo/nodes/builtin.hpp"
 
 namespace py = pybind11;
 
@@ -13,10 +14,12 @@ void bind_synthetic(py::module_& m);
 void bind_features(py::module_& m);
 void bind_knowledge(py::module_& m);
 void bind_graph(py::module_& m);
+void bind_testing(py::module_& m);
 
 PYBIND11_MODULE(_mereo, m) {
   m.doc() = "mereo's C++ core; import the names from the mereo package instead.";
   m.attr("__version__") = MEREO_VERSION_TEXT;
+  mereo::nodes::register_builtin();  // the port types and node kinds, before bind_graph lists them
   py::register_exception<mereo::InputError>(m, "InputError", PyExc_ValueError);
   bind_core(m);
   auto io = m.def_submodule("io", "Frame sources and writers (the hardware layer).");
@@ -32,4 +35,6 @@ PYBIND11_MODULE(_mereo, m) {
   auto kn = m.def_submodule("knowledge", "Object models, segments and matching (the object layer).");
   bind_knowledge(kn);
   bind_graph(m);  // Graph, FrameQueue, errors at the top level; node kinds in mereo._mereo.nodes
+  auto testing = m.def_submodule("_testing", "For mereo's own tests only.");
+  bind_testing(testing);
 }

@@ -11,7 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "mereo/graph/graph.hpp"
+#include "mereo/nodes/builtin.hpp"
 #include "mereo/synthetic/scene.hpp"
+#include "support/test_nodes.hpp"
 
 using namespace mereo;
 using namespace mereo::graph;
@@ -36,6 +38,8 @@ int main(int argc, char** argv) {
   const int frames = quick ? 12 : 100;
   const int repeats = quick ? 1 : 3;
   const unsigned cores = std::thread::hardware_concurrency();
+  nodes::register_builtin();
+  test_nodes::register_test_nodes<Frame>();  // identity and checksum
 
   // Frames: a few rendered VGA frames, repeated (the engine, not the renderer, is measured).
   std::vector<Frame> distinct;

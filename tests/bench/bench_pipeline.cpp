@@ -19,6 +19,7 @@
 
 #include "bench_util.hpp"
 #include "mereo/graph/graph.hpp"
+#include "mereo/nodes/builtin.hpp"
 #include "mereo/synthetic/scene.hpp"
 
 using namespace mereo;
@@ -45,6 +46,7 @@ double peak_mb() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  nodes::register_builtin();
   int frames = 100, in_flight = 4;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {

@@ -26,6 +26,7 @@
 #include "eval_tracking.hpp"
 #include "mereo/cognitive/odometry.hpp"
 #include "mereo/graph/graph.hpp"
+#include "mereo/nodes/builtin.hpp"
 #include "mereo/io/io.hpp"
 
 using namespace mereo;
@@ -68,6 +69,7 @@ int over(const std::vector<double>& v, double limit) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  nodes::register_builtin();
   bool quick = false, given_only = false;
   std::uint64_t first = 700;
   for (int i = 1; i < argc; ++i) {

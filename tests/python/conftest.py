@@ -2,6 +2,12 @@ from pathlib import Path
 
 import pytest
 
+from mereo import _mereo
+
+# The test-only node kinds (identity, checksum, fail_on_frame) for the engine's tests; they are
+# not in the library's list, so users never see them.
+_mereo._testing.register_test_nodes()
+
 ROOT = Path(__file__).resolve().parents[2]
 REAL = ROOT.parent / "shared" / "data" / "real"
 

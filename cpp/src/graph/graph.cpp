@@ -41,7 +41,7 @@ const char* to_string(Overflow o) {
 FrameQueue::FrameQueue(std::size_t capacity, Overflow policy)
     : capacity_(policy == Overflow::KeepLatest ? 1 : std::max<std::size_t>(capacity, 1)), policy_(policy) {}
 
-bool FrameQueue::push(Frame frame) {
+bool FrameQueue::push(SourceItem frame) {
   std::unique_lock<std::mutex> lock(mutex_);
   if (closed_) return false;
   if (frames_.size() >= capacity_) {
@@ -59,11 +59,11 @@ bool FrameQueue::push(Frame frame) {
   return true;
 }
 
-std::optional<Frame> FrameQueue::pop() {
+std::optional<SourceItem> FrameQueue::pop() {
   std::unique_lock<std::mutex> lock(mutex_);
   not_empty_.wait(lock, [&] { return !frames_.empty() || closed_; });
   if (frames_.empty()) return std::nullopt;
-  Frame f = std::move(frames_.front());
+  SourceItem f = std::move(frames_.front());
   frames_.pop_front();
   not_full_.notify_one();
   return f;
@@ -76,16 +76,9 @@ void FrameQueue::close() {
   not_full_.notify_all();
 }
 
-FrameSource FrameSource::recorded(std::vector<Frame> frames) {
-  auto shared = std::make_shared<std::vector<Frame>>(std::move(frames));
+FrameSource FrameSource::recorded(std::vector<SourceItem> frames) {
+  auto shared = std::make_shared<const std::vector<SourceItem>>(std::move(frames));
   return from_function(shared->size(), [shared](std::size_t i) { return (*shared)[i]; });
-}
-
-FrameSource FrameSource::from_function(std::size_t n, std::function<Frame(std::size_t)> load) {
-  FrameSource s;
-  s.size = [n] { return n; };
-  s.load = std::move(load);
-  return s;
 }
 
 FrameSource FrameSource::from_queue(std::shared_ptr<FrameQueue> queue) {

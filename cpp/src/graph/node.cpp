@@ -6,7 +6,6 @@
 #include <sstream>
 
 #include "mereo/graph/graph.hpp"
-#include "nodes/registry.hpp"
 
 namespace mereo::graph {
 
@@ -120,11 +119,7 @@ struct SpecRegistry {
   std::deque<NodeSpec> specs;  // deque: references stay valid as kinds are added
 };
 SpecRegistry& spec_registry() {
-  static SpecRegistry* r = [] {
-    auto* reg = new SpecRegistry;
-    for (auto& s : nodes::builtin_node_specs()) reg->specs.push_back(std::move(s));
-    return reg;
-  }();
+  static SpecRegistry* r = new SpecRegistry;  // never destroyed: usable until the process ends
   return *r;
 }
 }  // namespace
@@ -143,6 +138,9 @@ const NodeSpec& node_spec(const std::string& kind) {
     if (s.kind == kind) return s;
     known += (known.empty() ? "" : ", ") + s.kind;
   }
+  if (known.empty())
+    throw GraphError("unknown node kind '" + kind +
+                     "' (no kinds are registered; mereo's: call mereo::nodes::register_builtin() first)");
   throw GraphError("unknown node kind '" + kind + "' (known: " + known + ")");
 }
 

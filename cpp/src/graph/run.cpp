@@ -47,7 +47,6 @@ struct GraphRunner {
   struct FrameState {
     std::size_t index = 0;   // sequence number in the run
     std::string id;
-    Frame frame;
     std::vector<Value> slots;
     std::unique_ptr<std::atomic<int>[]> pending;
     std::atomic<int> sinks_pending{0};
@@ -184,13 +183,22 @@ struct GraphRunner {
     s.failed = true;
   }
 
-  void set_frame(FrameState& s, Frame frame) {
-    s.id = frame.id;
-    s.frame = std::move(frame);
-    const Value v = Value::make<Frame>(s.frame);
-    for (auto& n : nodes)
-      if (n->spec->is_source)
-        for (int slot : n->output_slot) s.slots[slot] = v;
+  /// Puts the frame's value on the source nodes' outputs, as their ports' type (a value of
+  /// another C++ type fails the frame at its source node).
+  void set_frame(FrameState& s, SourceItem frame) {
+    s.id = std::move(frame.id);
+    for (auto& n : nodes) {
+      if (!n->spec->is_source) continue;
+      for (std::size_t i = 0; i < n->output_slot.size(); ++i) {
+        const TypeInfo* t = find_type(n->spec->outputs[i].type);
+        try {
+          if (!t) throw std::logic_error("output port '" + n->spec->outputs[i].name + "' has an unregistered type");
+          s.slots[n->output_slot[i]] = frame.value.as(*t);
+        } catch (const std::exception& e) {
+          fail(s, n->inst->name, e.what());
+        }
+      }
+    }
   }
 
   /// Runs node k on a frame (the step both modes share).
@@ -264,7 +272,7 @@ struct GraphRunner {
   // ---- deterministic ----------------------------------------------------------------------
   RunSummary run_deterministic(const FrameSource& src, const std::function<void(FrameResult&&)>& sink) {
     std::size_t frames = 0, completed = 0, failed = 0;
-    auto process = [&](Frame frame) {
+    auto process = [&](SourceItem frame) {
       auto s = new_state(frames++);
       set_frame(*s, std::move(frame));
       for (std::size_t k = 0; k < nodes.size(); ++k) step(int(k), *s);
@@ -284,7 +292,7 @@ struct GraphRunner {
     } else {
       const std::size_t n = src.size();
       for (std::size_t i = 0; i < n; ++i) {
-        Frame f;
+        SourceItem f;
         try {
           f = src.load(i);
         } catch (const std::exception& e) {

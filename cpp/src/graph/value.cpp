@@ -1,16 +1,9 @@
 #include "mereo/graph/value.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <deque>
 #include <mutex>
 #include <sstream>
-
-#include "mereo/cognitive/tracking.hpp"
-#include "mereo/core/frame.hpp"
-#include "mereo/core/segment.hpp"
-#include "mereo/extension/support_plane.hpp"
-#include "mereo/matching/match.hpp"
 
 namespace mereo::graph {
 
@@ -20,18 +13,6 @@ struct Registry {
   std::mutex mutex;
   std::deque<TypeInfo> types;  // deque: stable addresses
 };
-
-template <typename T, int C>
-std::string image_text(const Image<T, C>& im, const char* what) {
-  std::ostringstream s;
-  s << im.cols() << "x" << im.rows() << " " << what;
-  if (C == 3 && std::is_floating_point<T>::value) {
-    std::size_t valid = 0;
-    for (std::size_t i = 0; i < im.pixels(); ++i) valid += std::isfinite(float(im.data()[C * i + C - 1]));
-    s << ", " << (im.pixels() ? 100.0 * valid / im.pixels() : 0.0) << "% valid";
-  }
-  return s.str();
-}
 
 void register_builtin(Registry& r);
 
@@ -58,39 +39,9 @@ void add(Registry& r, const std::string& name, std::function<std::string(const T
   add(r, name, std::type_index(typeid(T)), [d](const void* p) { return d(*static_cast<const T*>(p)); });
 }
 
-// The built-in port types. A module that adds a type registers it here too, so that the
-// list of types is in one place.
+// The engine's own port types; a library registers its types with register_type (mereo's in
+// mereo::nodes::register_builtin).
 void register_builtin(Registry& r) {
-  add<Frame>(r, "Frame", [](const Frame& f) {
-    return "frame " + f.id + " " + std::to_string(f.cols()) + "x" + std::to_string(f.rows());
-  });
-  add<Cloud>(r, "Cloud", [](const Cloud& c) { return image_text(c, "cloud"); });
-  add<NormalMap>(r, "NormalMap", [](const NormalMap& c) { return image_text(c, "normal map"); });
-  add<DepthImage>(r, "Depth", [](const DepthImage& c) { return image_text(c, "depth image"); });
-  add<ColorImage>(r, "Color", [](const ColorImage& c) { return image_text(c, "colour image"); });
-  add<LabelImage>(r, "Labels", [](const LabelImage& c) { return image_text(c, "label image"); });
-  add<extension::Mask>(r, "Mask", [](const extension::Mask& c) { return image_text(c, "mask"); });
-  add<extension::SupportPlane>(r, "SupportPlane", [](const extension::SupportPlane& p) {
-    std::ostringstream s;
-    s.precision(4);
-    s << "plane n=(" << p.normal.x() << ", " << p.normal.y() << ", " << p.normal.z() << ") d=" << p.d
-      << ", " << p.inlier_count << " inliers, " << p.polygon.size() << "-gon";
-    return s.str();
-  });
-  add<matching::Lattice>(r, "Lattice", [](const matching::Lattice& l) {
-    std::ostringstream s;
-    s << l.hypotheses.size() << " hypotheses, " << l.excludes.size() << " exclusions";
-    if (!l.hypotheses.empty()) s << ", best " << l.hypotheses.front().concept_name << " " << l.hypotheses.front().score;
-    return s.str();
-  });
-  add<std::vector<cognitive::Track>>(r, "Tracks", [](const std::vector<cognitive::Track>& t) {
-    std::size_t reported = 0;
-    for (const auto& x : t) reported += x.probability() >= 0.5;
-    return std::to_string(t.size()) + " tracks, " + std::to_string(reported) + " reported";
-  });
-  add<std::vector<Segment>>(r, "Segments", [](const std::vector<Segment>& s) {
-    return std::to_string(s.size()) + " segments";
-  });
   add<double>(r, "Number", [](const double& x) {
     std::ostringstream s;
     s.precision(17);
@@ -107,7 +58,8 @@ const TypeInfo& type_of(std::type_index t) {
   std::lock_guard<std::mutex> lock(r.mutex);
   for (const auto& e : r.types)
     if (e.type == t) return e;
-  throw std::logic_error(std::string("C++ type ") + t.name() + " is not a registered port type");
+  throw std::logic_error(std::string("C++ type ") + t.name() +
+                         " is not a registered port type (register_type; mereo's types: mereo::nodes::register_builtin())");
 }
 
 const TypeInfo* find_type(const std::string& name) {

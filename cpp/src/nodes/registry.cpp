@@ -1,5 +1,7 @@
 #include "nodes/registry.hpp"
 
+#include "mereo/nodes/builtin.hpp"
+
 namespace mereo::nodes {
 
 std::vector<graph::NodeSpec> builtin_node_specs() {
@@ -14,11 +16,17 @@ std::vector<graph::NodeSpec> builtin_node_specs() {
       odometry_node(),
       track_objects_node(),
       report_node(),
-      // diagnostics: engine tests and benchmarks
-      identity_node(),
-      checksum_node(),
-      fail_on_frame_node(),
   };
+}
+
+void register_builtin() {
+  // Once per process; a concurrent caller waits until it is done (a function-local static).
+  static const bool done = [] {
+    register_port_types();
+    for (auto& s : builtin_node_specs()) graph::register_node(std::move(s));
+    return true;
+  }();
+  (void)done;
 }
 
 }  // namespace mereo::nodes

@@ -1,4 +1,5 @@
-// The explicit list of built-in node kinds (no static registration: see STYLE.md).
+// The explicit lists of the library's node kinds and port types, registered into the engine
+// by mereo::nodes::register_builtin() (no static registration: see STYLE.md).
 #pragma once
 
 #include <vector>
@@ -18,11 +19,10 @@ graph::NodeSpec match_models_node();
 graph::NodeSpec report_node();
 graph::NodeSpec track_objects_node();
 graph::NodeSpec odometry_node();
-graph::NodeSpec identity_node();
-graph::NodeSpec checksum_node();
-graph::NodeSpec fail_on_frame_node();
 
 /// Every built-in kind, in the order of the list in registry.cpp.
 std::vector<graph::NodeSpec> builtin_node_specs();
+/// The port types that cross the library's edges (port_types.cpp; a new type goes there).
+void register_port_types();
 
 }  // namespace mereo::nodes

@@ -11,6 +11,7 @@ from . import synthetic
 from . import features
 from . import knowledge
 from . import nodes
+from . import _testing
 __all__: list[str] = ['Frame', 'FrameQueue', 'Graph', 'GraphError', 'InputError', 'Intrinsics', 'Node', 'NodeError', 'NodeTemplate', 'Port', 'extension', 'features', 'io', 'knowledge', 'node_doc', 'nodes', 'signal', 'synthetic']
 class InputError(ValueError):
     pass
@@ -179,7 +180,7 @@ class Graph:
         ...
     def add(self, kind: typing.Any, name: str | None = None, **kwargs) -> Node:
         """
-        Adds a node: g.add('checksum', 'work', rounds=3) or g.add(mereo.nodes.checksum(rounds=3), 'work').
+        Adds a node: g.add('estimate_normals', 'normals', window=7) or g.add(mereo.nodes.estimate_normals(window=7), 'normals').
         """
     def add_python(self, fn: collections.abc.Callable, name: str, inputs: collections.abc.Sequence[tuple[str, str]], outputs: collections.abc.Sequence[tuple[str, str]], doc: str = '') -> Node:
         """

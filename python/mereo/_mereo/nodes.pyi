@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'odometry', 'track_objects', 'report', 'identity', 'checksum', 'fail_on_frame']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'odometry', 'track_objects', 'report']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -12,17 +12,6 @@ def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
         frame (Frame): an RGB-D frame
     Outputs:
         cloud (Cloud): H x W x 3 points
-    """
-def checksum(**kwargs) -> mereo._mereo.NodeTemplate:
-    """
-    A CPU-heavy, deterministic checksum of the frame's depth (engine benchmarks).
-    
-    Inputs:
-        frame (Frame): an RGB-D frame
-    Outputs:
-        value (Number): the checksum
-    Options:
-        rounds (int, default 1, 1..1e+06): passes over the image
     """
 def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
     """
@@ -65,17 +54,6 @@ def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
         adaptive_window (bool, default true): covariance: the window shrinks with depth (constant metric size)
         reference_depth (float, default 1, 0.1..10): metres: depth at which the adaptive window equals `window`
     """
-def fail_on_frame(**kwargs) -> mereo._mereo.NodeTemplate:
-    """
-    Passes the frame on, but throws on the frame with the given index (error-policy tests).
-    
-    Inputs:
-        frame (Frame): any frame
-    Outputs:
-        frame (Frame): the same frame
-    Options:
-        frame (int, default 0, 0..1e+12): index of the frame to fail on
-    """
 def filter_depth(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame with its depth smoothed by an edge-preserving bilateral filter (depth jumps stay sharp).
@@ -96,15 +74,6 @@ def frame_source(**kwargs) -> mereo._mereo.NodeTemplate:
     
     Outputs:
         frame (Frame): the RGB-D frame
-    """
-def identity(**kwargs) -> mereo._mereo.NodeTemplate:
-    """
-    Passes the frame on unchanged (no work: measures the engine's cost per node).
-    
-    Inputs:
-        frame (Frame): any frame
-    Outputs:
-        frame (Frame): the same frame
     """
 def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     """

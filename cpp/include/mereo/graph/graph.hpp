@@ -14,15 +14,17 @@
 #include <cstddef>
 #include <deque>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
-#include "mereo/core/frame.hpp"
 #include "mereo/graph/node.hpp"
 #include "mereo/graph/value.hpp"
 
@@ -69,14 +71,30 @@ enum class Overflow {
 Overflow overflow_from_string(const std::string& s);  ///< "block", "drop_oldest", "keep_latest"
 const char* to_string(Overflow o);
 
+/// One frame of a run, as the engine sees it: the value that the source nodes put out (a
+/// mereo::Frame in the library) and its id, which results and errors carry.
+struct SourceItem {
+  std::string id;
+  Value value;
+  /// The item of `frame`: F is a registered port type with a string member `id` (mereo::Frame).
+  template <typename F>
+  static SourceItem of(F frame) {
+    std::string id = frame.id;
+    return {std::move(id), Value::make<F>(std::move(frame))};
+  }
+};
+
 /// A thread-safe, bounded queue of frames between a live producer and a running graph.
 class FrameQueue {
  public:
   explicit FrameQueue(std::size_t capacity = 2, Overflow policy = Overflow::Block);
   /// Adds a frame (may block, drop the oldest, or replace, by policy). False if closed.
-  bool push(Frame frame);
+  bool push(SourceItem frame);
+  /// push(SourceItem::of(frame)), for a frame F as SourceItem::of takes it.
+  template <typename F>
+  bool push(F frame) { return push(SourceItem::of(std::move(frame))); }
   /// Waits for a frame; nullopt once closed and empty.
-  std::optional<Frame> pop();
+  std::optional<SourceItem> pop();
   /// No more frames: pop() drains what is queued, then returns nullopt.
   void close();
   std::size_t pushed() const { return pushed_; }
@@ -89,18 +107,39 @@ class FrameQueue {
   Overflow policy_;
   std::mutex mutex_;
   std::condition_variable not_empty_, not_full_;
-  std::deque<Frame> frames_;
+  std::deque<SourceItem> frames_;
   bool closed_ = false;
   std::atomic<std::size_t> pushed_{0}, dropped_{0};
 };
 
-/// Where frames come from: a recorded sequence (indexable) or a live queue.
+/// Where frames come from: a recorded sequence (indexable) or a live queue. The factories take
+/// SourceItems or frames F as SourceItem::of takes them (mereo::Frame).
 struct FrameSource {
   std::function<std::size_t()> size;                   ///< recorded: number of frames
-  std::function<Frame(std::size_t)> load;              ///< recorded: frame i
+  std::function<SourceItem(std::size_t)> load;         ///< recorded: frame i (called on any thread)
   std::shared_ptr<FrameQueue> live;                    ///< live: frames as they come
-  static FrameSource recorded(std::vector<Frame> frames);
-  static FrameSource from_function(std::size_t n, std::function<Frame(std::size_t)> load);
+  static FrameSource recorded(std::vector<SourceItem> frames);
+  template <typename F>
+  static FrameSource recorded(std::vector<F> frames) {
+    std::vector<SourceItem> items;
+    items.reserve(frames.size());
+    for (auto& f : frames) items.push_back(SourceItem::of(std::move(f)));
+    return recorded(std::move(items));
+  }
+  template <typename F>
+  static FrameSource recorded(std::initializer_list<F> frames) { return recorded(std::vector<F>(frames)); }
+  /// n frames; `load(i)` returns frame i (a SourceItem or a frame F).
+  template <typename Load>
+  static FrameSource from_function(std::size_t n, Load load) {
+    using F = std::decay_t<std::invoke_result_t<Load&, std::size_t>>;
+    FrameSource s;
+    s.size = [n] { return n; };
+    if constexpr (std::is_same_v<F, SourceItem>)
+      s.load = std::move(load);
+    else
+      s.load = [load = std::move(load)](std::size_t i) { return SourceItem::of<F>(load(i)); };
+    return s;
+  }
   static FrameSource from_queue(std::shared_ptr<FrameQueue> queue);
 };
 

@@ -2,8 +2,9 @@
 //
 // A node kind is a NodeSpec: typed input and output ports, typed options (name, type,
 // default, allowed range, one-line doc) and a factory that turns option values into a body.
-// The body calls one plain algorithm function. Kinds are registered explicitly in one list,
-// cpp/src/nodes/registry.cpp; Python sees each of them through one generic binder.
+// The body calls one plain algorithm function. The engine knows no kinds of its own: a library
+// registers its kinds explicitly (mereo's in one list, mereo::nodes::register_builtin); Python
+// sees each of them through one generic binder.
 #pragma once
 
 #include <cstddef>
@@ -99,11 +100,11 @@ struct NodeSpec {
   Options validate(const std::string& node_name, const std::map<std::string, OptionValue>& given) const;
 };
 
-/// The registered node kinds (filled once from the explicit list in nodes/registry.cpp).
+/// The registered node kinds, in the order of registration.
 std::vector<NodeSpec> node_specs();
 /// The spec of `kind`; throws GraphError listing the known kinds.
 const NodeSpec& node_spec(const std::string& kind);
-/// Adds a kind at run time (Python nodes and tests); throws if the kind exists.
+/// Adds a kind (thread-safe); throws GraphError if the kind exists.
 void register_node(NodeSpec spec);
 
 }  // namespace mereo::graph

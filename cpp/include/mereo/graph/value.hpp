@@ -2,8 +2,10 @@
 //
 // A Value is an immutable, shared, type-tagged object (a Frame, a Cloud, a list of Segments,
 // a number...). Copies are cheap (a shared_ptr). Each C++ type that may cross an edge is
-// registered once with a port-type name ("Frame", "Cloud", ...), see register_types() in
-// cpp/src/graph/value.cpp; ports declare these names and verify() compares them.
+// registered once with a port-type name: the engine's own "Number" (double) and "Text"
+// (std::string); a library registers its types with register_type (mereo's: "Frame",
+// "Cloud", ..., in mereo::nodes::register_builtin). Ports declare these names and verify()
+// compares them.
 #pragma once
 
 #include <functional>
@@ -31,8 +33,7 @@ const TypeInfo& type_of() { return type_of(std::type_index(typeid(T))); }
 const TypeInfo* find_type(const std::string& name);
 /// Every registered type name, sorted.
 std::vector<std::string> type_names();
-/// Registers T under `name` (idempotent; called for the built-in types at start-up, and by
-/// modules that add types). `describe` may be empty.
+/// Registers T under `name` (idempotent; thread-safe). `describe` may be empty.
 void register_type(const std::string& name, std::type_index t,
                    std::function<std::string(const void*)> describe = {});
 template <typename T>

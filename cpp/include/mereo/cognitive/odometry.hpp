@@ -12,6 +12,7 @@
 #include "mereo/core/camera.hpp"
 #include "mereo/cognitive/landmarks.hpp"
 #include "mereo/core/frame.hpp"
+#include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 
 namespace mereo::cognitive {
@@ -23,7 +24,21 @@ struct OdometryOptions {
   double max_jump = 0.1;      ///< metres: a motion this far from the last one is taken for a failed alignment
   double max_turn_deg = 10.0; ///< degrees: likewise
   LandmarkOptions landmarks;
+
+  /// The options of the odometry node (the rest stay at their defaults).
+  static const Fields<OdometryOptions>& fields();
 };
+
+inline const Fields<OdometryOptions>& OdometryOptions::fields() {
+  using O = OdometryOptions;
+  static const Fields<O> f = {
+      field("max_depth", &O::max_depth, 0.5, 20, "farther points are not used, metres"),
+      field("max_jump", &O::max_jump, 0.001, 100,
+            "a motion this far from the last one (metres) is a failed alignment: the last motion is taken"),
+      field("max_turn_deg", &O::max_turn_deg, 0.1, 180, "... or turned this far from it, degrees"),
+  };
+  return f;
+}
 
 /// Chains frame-to-frame motions into camera-to-world poses; the first frame is the world.
 class Odometry {

@@ -48,6 +48,7 @@
 
 #include "mereo/core/camera.hpp"
 #include "mereo/core/image.hpp"
+#include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 
 namespace mereo::cognitive {
@@ -73,7 +74,26 @@ struct TrackOptions {
   double max_handle_turn_deg = 25.0;    ///< ... a ring turned further from the body's axis is no handle
   double process_noise = 0.0003;        ///< sigma per frame of a part's place and height (its visible extent)
   double shape_noise = 0.00002;         ///< ... of its radii: a rigid object's do not change, views average
+
+  /// The options of the track_objects node (the rest stay at their defaults).
+  static const Fields<TrackOptions>& fields();
 };
+
+inline const Fields<TrackOptions>& TrackOptions::fields() {
+  using O = TrackOptions;
+  static const Fields<O> f = {
+      field("max_distance", &O::max_distance, 0.001, 1, "association: body centres, metres"),
+      field("part_tolerance", &O::part_tolerance, 0.001, 1, "a part stays put relative to its body"),
+      field("visible_pixels", &O::visible_pixels, 1, 1e6,
+            "a missing part this large in the image (pixels, where the frame's depth shows its place) is a full "
+            "contradiction"),
+      field("max_handle_turn_deg", &O::max_handle_turn_deg, 0, 90,
+            "the last views around a handle fitted together: a ring turned further from the body's axis is no handle"),
+      field("max_missed", &O::max_missed, 1, 100000, "frames unseen before a track is dropped"),
+      field("report", &O::report, 0, 1, "probability at which a track is reported"),
+  };
+  return f;
+}
 
 /// One object hypothesis of a frame (camera frame).
 struct Observation {

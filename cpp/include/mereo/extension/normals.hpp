@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mereo/core/image.hpp"
+#include "mereo/core/options.hpp"
 
 namespace mereo::extension {
 
@@ -36,7 +37,25 @@ struct NormalOptions {
   double reference_depth = 1.0;
   /// Fewest points a window must hold for a normal (else NaN).
   int min_points = 4;
+
+  /// The options of the estimate_normals node and Python function.
+  static const Fields<NormalOptions>& fields();
 };
+
+inline const Fields<NormalOptions>& NormalOptions::fields() {
+  using O = NormalOptions;
+  static const Fields<O> f = {
+      choice("method", &O::method, {{"fast", NormalMethod::Fast}, {"covariance", NormalMethod::Covariance}},
+             "fast: least-squares tangents; covariance: PCA through integral images"),
+      field("window", &O::window, 3, 101, "window side in pixels (odd)"),
+      field("depth_change_factor", &O::depth_change_factor, 1e-4, 1,
+            "a depth jump larger than this times z breaks smoothing"),
+      field("noise_depth", &O::noise_depth, 0.1, 100, "metres: beyond it the jump threshold grows as z^2 (sensor noise)"),
+      field("adaptive_window", &O::adaptive_window, "covariance: the window shrinks with depth (constant metric size)"),
+      field("reference_depth", &O::reference_depth, 0.1, 10, "metres: depth at which the adaptive window equals `window`"),
+  };
+  return f;
+}
 
 /// Unit normals per pixel of an organized cloud (metres, camera frame), oriented towards the
 /// camera (dot(n, p) < 0), NaN where the point is missing or no plane is defined. Windows never

@@ -10,6 +10,7 @@
 
 #include "mereo/core/camera.hpp"
 #include "mereo/core/image.hpp"
+#include "mereo/core/options.hpp"
 
 namespace mereo::extension {
 
@@ -36,7 +37,24 @@ struct SupportPlaneOptions {
   double min_height = 0.006;
   double max_height = 0.40;
   double margin = 0.0;
+
+  /// The options of the support_plane node and the find_support_plane Python function (`up`
+  /// comes from the frame's pose, or is a separate argument).
+  static const Fields<SupportPlaneOptions>& fields();
 };
+
+inline const Fields<SupportPlaneOptions>& SupportPlaneOptions::fields() {
+  using O = SupportPlaneOptions;
+  static const Fields<O> f = {
+      field("seed", &O::seed, 0, 1e15, "random seed of the plane hypotheses"),
+      field("epsilon", &O::epsilon, 1e-4, 0.1, "inlier distance at 1 m, metres"),
+      field("min_inliers", &O::min_inliers, 10, 1e7, "fewest points of the plane"),
+      field("min_height", &O::min_height, 0, 1, "ROI: lowest height above the plane, metres"),
+      field("max_height", &O::max_height, 0.01, 5, "ROI: highest height above the plane, metres"),
+      field("margin", &O::margin, -1, 1, "ROI: polygon shrunk by this, metres"),
+  };
+  return f;
+}
 
 /// The support plane of one frame. Geometry in metres, camera frame, unless it says world.
 struct SupportPlane {

@@ -34,6 +34,7 @@
 #include <Eigen/Core>
 
 #include "mereo/core/image.hpp"
+#include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 
 namespace mereo::features {
@@ -92,7 +93,33 @@ struct DetectOptions {
   /// surface: after the 3x3 bilateral filter a 4 cm cylinder fits ~0.4 mm too wide at 1.2 m.
   /// Empty = the cloud's points.
   Cloud unfiltered;
+
+  /// The options of the detect_primitives node and Python function (not roi, unfiltered and
+  /// the internal tuning above: they come from ports or stay at their defaults).
+  static const Fields<DetectOptions>& fields();
 };
+
+inline const Fields<DetectOptions>& DetectOptions::fields() {
+  using O = DetectOptions;
+  static const Fields<O> f = {
+      field("seed", &O::seed, 0, 1e15, "the only source of randomness"),
+      list("classes", &O::classes, [](PrimitiveClass c) { return to_string(c); }, primitive_class,
+           "classes to look for"),
+      field("epsilon", &O::epsilon, 1e-4, 0.1, "inlier distance at 1 m, metres"),
+      field("normal_deviation_deg", &O::normal_deviation_deg, 1, 90, "inlier normal deviation"),
+      field("min_support", &O::min_support, 10, 1e7, "fewest pixels of a segment"),
+      field("min_support_torus", &O::min_support_torus, 10, 1e7, "fewest pixels of a torus"),
+      field("max_primitives", &O::max_primitives, 1, 10000, "at most this many segments"),
+      field("handles_near_cylinders", &O::handles_near_cylinders, "look for a torus next to every cylinder"),
+      field("handle_body_min_radius", &O::handle_body_min_radius, 0, 1, "... whose radius is at least this, metres"),
+      field("handle_body_max_radius", &O::handle_body_max_radius, 0, 1, "... and at most this"),
+      field("fit_along_rays", &O::fit_along_rays,
+            "fit cylinders and spheres along the rays (depth noise along them); false: by geometric distance"),
+      field("max_handle_turn_deg", &O::max_handle_turn_deg, 0, 90,
+            "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"),
+  };
+  return f;
+}
 
 /// Where find_primitive looks. All given constraints apply together.
 struct SearchRegion {

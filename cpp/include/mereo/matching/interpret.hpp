@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mereo/core/frame.hpp"
+#include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/knowledge/model.hpp"
@@ -30,7 +31,20 @@ struct InterpretOptions {
   double min_score = 0.5;          ///< hypotheses below are not accepted
   double min_posterior = 0.5;      ///< nor below this posterior
   double list_score = 0.3;         ///< alternatives at or above this are listed (not accepted)
+
+  /// The options of the report node.
+  static const Fields<InterpretOptions>& fields();
 };
+
+inline const Fields<InterpretOptions>& InterpretOptions::fields() {
+  using O = InterpretOptions;
+  static const Fields<O> f = {
+      field("min_score", &O::min_score, 0, 1, "hypotheses below this score are not accepted"),
+      field("min_posterior", &O::min_posterior, 0, 1, "nor below this posterior"),
+      field("list_score", &O::list_score, 0, 1, "alternatives at or above this are listed"),
+  };
+  return f;
+}
 
 /// The interpretation of a frame: hypotheses are accepted greedily, one per set of segments,
 /// preferring those that explain more segments (a mug, body and handle, over a cup on the same

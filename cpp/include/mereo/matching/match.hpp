@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 #include "mereo/knowledge/model.hpp"
 #include "mereo/knowledge/predicates.hpp"
@@ -43,7 +44,19 @@ struct MatchOptions {
   const knowledge::KnowledgeBase* kb = nullptr;
   int sub_best = 10;
   int depth = 0;                ///< nesting level (internal)
+
+  /// The options of the Python functions match and recognize and of the match_models node.
+  static const Fields<MatchOptions>& fields();
 };
+
+inline const Fields<MatchOptions>& MatchOptions::fields() {
+  using O = MatchOptions;
+  static const Fields<O> f = {
+      field("best", &O::best, 1, 1000, "hypotheses kept per concept"),
+      field("min_score", &O::min_score, 0, 1, "hypotheses below this score are dropped"),
+  };
+  return f;
+}
 
 struct MatchStats {
   std::size_t expanded = 0;     ///< search nodes visited (partial and complete assignments)

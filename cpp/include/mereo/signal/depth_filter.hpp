@@ -3,6 +3,7 @@
 #pragma once
 
 #include "mereo/core/frame.hpp"
+#include "mereo/core/options.hpp"
 
 namespace mereo::signal {
 
@@ -17,7 +18,21 @@ struct DepthFilterOptions {
   /// A neighbour further than depth_change_factor * z from the centre never contributes (depth
   /// jumps are kept sharp, as in the normals' discontinuity test).
   double depth_change_factor = 0.02;
+
+  /// The options of the filter_depth node and Python function.
+  static const Fields<DepthFilterOptions>& fields();
 };
+
+inline const Fields<DepthFilterOptions>& DepthFilterOptions::fields() {
+  using O = DepthFilterOptions;
+  static const Fields<O> f = {
+      field("radius", &O::radius, 1, 10, "window half-size, pixels"),
+      field("sigma_space", &O::sigma_space, 0.1, 20, "spatial sigma, pixels"),
+      field("sigma_depth", &O::sigma_depth, 1e-5, 0.1, "range sigma at 1 m, metres (grows with z^2)"),
+      field("depth_change_factor", &O::depth_change_factor, 1e-4, 1, "neighbours further than this times z are ignored"),
+  };
+  return f;
+}
 
 /// Bilateral filter of a depth image (metres, NaN = missing): each valid pixel becomes the
 /// weighted mean of the valid neighbours in its window, with a Gaussian weight on the pixel

@@ -7,19 +7,18 @@
 //     - primitives.segments -> objects.segments
 //     - source.frame -> objects.frame      # optional: its pose gives "up"
 //     - table.plane -> objects.plane       # optional: the table's normal is "up"
-#include <sstream>
-
 #include "mereo/core/error.hpp"
 #include "mereo/core/frame.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/knowledge/model_file.hpp"
 #include "mereo/matching/match.hpp"
+#include "nodes/node_options.hpp"
+#include "nodes/options.hpp"
 #include "nodes/registry.hpp"
 
 namespace mereo::nodes {
 
 graph::NodeSpec match_models_node() {
-  using graph::OptionType;
   graph::NodeSpec s;
   s.kind = "match_models";
   s.doc = "Object hypotheses: concepts matched to the segments by branch and bound, with exclusion arcs.";
@@ -27,29 +26,13 @@ graph::NodeSpec match_models_node() {
               {"frame", "Frame", "the frame; with a pose, 'up' comes from it (else the camera's -y)", false},
               {"plane", "SupportPlane", "the support plane; its normal is 'up' (before the frame's pose)", false}};
   s.outputs = {{"lattice", "Lattice", "hypotheses (best first per concept) and exclusion arcs"}};
-  s.options = {
-      {"models", OptionType::String, std::string("mug,cup,jar,can,bottle,plate,bowl"), 0, 0, {},
-       "comma-separated concepts to look for"},
-      {"file", OptionType::String, std::string(""), 0, 0, {}, "a YAML model file (empty: the shipped models)"},
-      {"best", OptionType::Int, 10LL, 1, 1000, {}, "hypotheses kept per concept"},
-      {"min_score", OptionType::Double, 0.05, 0, 1, {}, "hypotheses below this score are dropped"},
-  };
+  s.options = options_of<MatchModelsNodeOptions>();
   s.make = [](const graph::Options& o) {
+    const auto opts = options_from<MatchModelsNodeOptions>(o);
     // the models are read and checked when the graph is built, not per frame
-    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(o.get_string("file")));
-    std::vector<std::string> names;
-    std::stringstream list(o.get_string("models"));
-    for (std::string n; std::getline(list, n, ',');) {
-      n.erase(0, n.find_first_not_of(' '));
-      n.erase(n.find_last_not_of(' ') + 1);
-      if (n.empty()) continue;
-      kb->resolve(n);  // throws InputError naming the unknown concept and the known ones
-      names.push_back(n);
-    }
-    matching::MatchOptions mo;
-    mo.best = int(o.get_int("best"));
-    mo.min_score = o.get_double("min_score");
-    return graph::NodeBody([kb, names, mo](graph::NodeContext& ctx) {
+    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(opts.file));
+    for (const auto& n : opts.models) kb->resolve(n);  // throws InputError naming the unknown concept and the known ones
+    return graph::NodeBody([kb, names = opts.models, mo = opts.match](graph::NodeContext& ctx) {
       matching::MatchOptions m = mo;
       if (ctx.has_input("frame")) {
         const Frame& f = ctx.input<Frame>("frame");

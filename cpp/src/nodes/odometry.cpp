@@ -15,13 +15,13 @@
 
 #include "mereo/cognitive/odometry.hpp"
 #include "mereo/extension/support_plane.hpp"
+#include "nodes/node_options.hpp"
+#include "nodes/options.hpp"
 #include "nodes/registry.hpp"
 
 namespace mereo::nodes {
 
 graph::NodeSpec odometry_node() {
-  using graph::OptionType;
-  const cognitive::OdometryOptions def;
   graph::NodeSpec s;
   s.kind = "odometry";
   s.doc = "Camera poses from the frames (OpenCV RGB-D ICP odometry, frame to frame; the first frame is the world), "
@@ -30,21 +30,12 @@ graph::NodeSpec odometry_node() {
               {"plane", "SupportPlane", "the frame's table: the landmarks' plane (with segments)", false},
               {"segments", "Segments", "the frame's segments: its upright cylinders are landmarks", false}};
   s.outputs = {{"frame", "Frame", "the same frame with its estimated pose"}};
-  s.options = {
-      {"replace", OptionType::Bool, false, 0, 0, {}, "estimate even where the frame has a pose"},
-      {"max_depth", OptionType::Double, def.max_depth, 0.5, 20, {}, "farther points are not used, metres"},
-      {"max_jump", OptionType::Double, def.max_jump, 0.001, 100, {},
-       "a motion this far from the last one (metres) is a failed alignment: the last motion is taken"},
-      {"max_turn_deg", OptionType::Double, def.max_turn_deg, 0.1, 180, {}, "... or turned this far from it, degrees"},
-  };
+  s.options = options_of<OdometryNodeOptions>();
   s.ordered = true;
   s.make = [](const graph::Options& o) {
-    cognitive::OdometryOptions oo;
-    oo.max_depth = o.get_double("max_depth");
-    oo.max_jump = o.get_double("max_jump");
-    oo.max_turn_deg = o.get_double("max_turn_deg");
-    auto odometry = std::make_shared<cognitive::Odometry>(oo);
-    const bool replace = o.get_bool("replace");
+    const auto opts = options_from<OdometryNodeOptions>(o);
+    auto odometry = std::make_shared<cognitive::Odometry>(opts.odometry);
+    const bool replace = opts.replace;
     return graph::NodeBody([odometry, replace](graph::NodeContext& ctx) {
       Frame f = ctx.input<Frame>("frame");
       std::optional<cognitive::TablePlane> table;

@@ -13,13 +13,13 @@
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/knowledge/model_file.hpp"
 #include "matching/json.hpp"
+#include "nodes/node_options.hpp"
+#include "nodes/options.hpp"
 #include "nodes/registry.hpp"
 
 namespace mereo::nodes {
 
 graph::NodeSpec report_node() {
-  using graph::OptionType;
-  const matching::InterpretOptions def;
   graph::NodeSpec s;
   s.kind = "report";
   s.doc = "The accepted objects (one per set of segments, most explaining first) and the frame's JSON result.";
@@ -29,21 +29,11 @@ graph::NodeSpec report_node() {
               {"plane", "SupportPlane", "the support plane, reported when given", false},
               {"tracks", "Tracks", "tracked objects (track_objects): reported instead of the frame's own", false}};
   s.outputs = {{"result", "Text", "the frame's result, one JSON object"}};
-  s.options = {
-      {"file", OptionType::String, std::string(""), 0, 0, {}, "the model file of match_models (empty: the shipped models)"},
-      {"min_score", OptionType::Double, def.min_score, 0, 1, {}, "hypotheses below this score are not accepted"},
-      {"min_posterior", OptionType::Double, def.min_posterior, 0, 1, {}, "nor below this posterior"},
-      {"list_score", OptionType::Double, def.list_score, 0, 1, {}, "alternatives at or above this are listed"},
-      {"track_probability", OptionType::Double, 0.5, 0, 1, {}, "with tracks: those at or above this are reported"},
-  };
+  s.options = options_of<ReportNodeOptions>();
   s.make = [](const graph::Options& o) {
-    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(o.get_string("file")));
-    matching::InterpretOptions io;
-    io.min_score = o.get_double("min_score");
-    io.min_posterior = o.get_double("min_posterior");
-    io.list_score = o.get_double("list_score");
-    const double track_probability = o.get_double("track_probability");
-    return graph::NodeBody([kb, io, track_probability](graph::NodeContext& ctx) {
+    const auto opts = options_from<ReportNodeOptions>(o);
+    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(opts.file));
+    return graph::NodeBody([kb, io = opts.interpret, track_probability = opts.track_probability](graph::NodeContext& ctx) {
       const Frame& frame = ctx.input<Frame>("frame");
       const extension::SupportPlane* plane =
           ctx.has_input("plane") ? &ctx.input<extension::SupportPlane>("plane") : nullptr;

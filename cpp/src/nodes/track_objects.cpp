@@ -17,13 +17,13 @@
 #include "mereo/core/frame.hpp"
 #include "mereo/knowledge/model_file.hpp"
 #include "mereo/matching/interpret.hpp"
+#include "nodes/node_options.hpp"
+#include "nodes/options.hpp"
 #include "nodes/registry.hpp"
 
 namespace mereo::nodes {
 
 graph::NodeSpec track_objects_node() {
-  using graph::OptionType;
-  const cognitive::TrackOptions def;
   graph::NodeSpec s;
   s.kind = "track_objects";
   s.doc = "Object hypotheses tracked across frames (world frame): rescored per view, Kalman-refined, rejected when "
@@ -32,28 +32,12 @@ graph::NodeSpec track_objects_node() {
               {"segments", "Segments", "the frame's segments"},
               {"lattice", "Lattice", "the frame's hypotheses (match_models)"}};
   s.outputs = {{"tracks", "Tracks", "the live tracks, by id"}};
-  s.options = {
-      {"file", OptionType::String, std::string(""), 0, 0, {}, "the model file of match_models (empty: the shipped models)"},
-      {"max_distance", OptionType::Double, def.max_distance, 0.001, 1, {}, "association: body centres, metres"},
-      {"part_tolerance", OptionType::Double, def.part_tolerance, 0.001, 1, {}, "a part stays put relative to its body"},
-      {"visible_pixels", OptionType::Double, def.visible_pixels, 1, 1e6, {},
-       "a missing part this large in the image (pixels, where the frame's depth shows its place) is a full contradiction"},
-      {"max_handle_turn_deg", OptionType::Double, def.max_handle_turn_deg, 0, 90, {},
-       "the last views around a handle fitted together: a ring turned further from the body's axis is no handle"},
-      {"max_missed", OptionType::Int, (long long)def.max_missed, 1, 100000, {}, "frames unseen before a track is dropped"},
-      {"report", OptionType::Double, def.report, 0, 1, {}, "probability at which a track is reported"},
-  };
+  s.options = options_of<TrackObjectsNodeOptions>();
   s.ordered = true;
   s.make = [](const graph::Options& o) {
-    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(o.get_string("file")));
-    cognitive::TrackOptions to;
-    to.max_distance = o.get_double("max_distance");
-    to.part_tolerance = o.get_double("part_tolerance");
-    to.visible_pixels = o.get_double("visible_pixels");
-    to.max_handle_turn_deg = o.get_double("max_handle_turn_deg");
-    to.max_missed = int(o.get_int("max_missed"));
-    to.report = o.get_double("report");
-    auto tracker = std::make_shared<cognitive::Tracker>(to);  // one per run: the body is made per run
+    const auto opts = options_from<TrackObjectsNodeOptions>(o);
+    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(opts.file));
+    auto tracker = std::make_shared<cognitive::Tracker>(opts.track);  // one per run: the body is made per run
     return graph::NodeBody([kb, tracker](graph::NodeContext& ctx) {
       const auto& segments = ctx.input<std::vector<Segment>>("segments");
       const auto& frame = ctx.input<Frame>("frame");

@@ -8,10 +8,12 @@
 #include "mereo/extension/projection.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "numpy_view.hpp"
+#include "options.hpp"
 
 namespace py = pybind11;
 using mereo::py_util::from_numpy;
 using mereo::py_util::to_numpy;
+namespace pu = mereo::py_util;
 
 void bind_extension(py::module_& m) {
   namespace ext = mereo::extension;
@@ -44,16 +46,10 @@ void bind_extension(py::module_& m) {
         },
         py::arg("cloud"), "Least-squares pinhole fit to an organized cloud: (Intrinsics, max residual px).");
 
+  pu::register_options<ext::NormalOptions>("NormalOptions");
   m.def("estimate_normals",
-        [](py::handle cloud, const std::string& method, int window, double depth_change_factor,
-           bool adaptive_window, double reference_depth, double noise_depth) {
-          ext::NormalOptions o;
-          o.method = ext::normal_method(method);
-          o.window = window;
-          o.depth_change_factor = depth_change_factor;
-          o.adaptive_window = adaptive_window;
-          o.reference_depth = reference_depth;
-          o.noise_depth = noise_depth;
+        [](py::handle cloud, py::kwargs options) {
+          const auto o = pu::options_from_kwargs<ext::NormalOptions>("estimate_normals", options);
           const auto c = from_numpy<float, 3>(cloud, "cloud");
           mereo::NormalMap n;
           {
@@ -62,13 +58,12 @@ void bind_extension(py::module_& m) {
           }
           return to_numpy(n);  // a view of the C++ result, no copy
         },
-        py::arg("cloud"), py::arg("method") = "fast", py::arg("window") = 5,
-        py::arg("depth_change_factor") = 0.02, py::arg("adaptive_window") = true,
-        py::arg("reference_depth") = 1.0, py::arg("noise_depth") = 2.0,
-        "Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN where "
-        "undefined. method 'fast' (least-squares tangents) or 'covariance' (PCA, integral images); "
-        "windows never cross a depth jump larger than depth_change_factor * z (growing as z^2 beyond "
-        "noise_depth metres).");
+        py::arg("cloud"),
+        pu::takes_options(m, "estimate_normals", "NormalOptions",
+                          "Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN "
+                          "where undefined. Windows never cross a depth jump larger than depth_change_factor * z "
+                          "(growing as z^2 beyond noise_depth metres).")
+            .c_str());
 
   py::class_<ext::SupportPlane>(m, "SupportPlane",
                                 "The table plane: normal (towards the camera), d (normal . x + d = 0), "
@@ -101,26 +96,20 @@ void bind_extension(py::module_& m) {
                          return mereo::graph::Value::make<ext::SupportPlane>(h.cast<ext::SupportPlane>());
                        }});
 
+  pu::register_options<ext::SupportPlaneOptions>("SupportPlaneOptions");
   m.def("find_support_plane",
-        [](py::handle cloud, py::handle normals, std::optional<Eigen::Vector3d> up, double epsilon,
-           int min_inliers, double min_height, double max_height, double margin, std::uint64_t seed) {
-          ext::SupportPlaneOptions o;
+        [](py::handle cloud, py::handle normals, std::optional<Eigen::Vector3d> up, py::kwargs options) {
+          auto o = pu::options_from_kwargs<ext::SupportPlaneOptions>("find_support_plane", options);
           o.up = up;
-          o.epsilon = epsilon;
-          o.min_inliers = min_inliers;
-          o.min_height = min_height;
-          o.max_height = max_height;
-          o.margin = margin;
-          o.seed = seed;
           const auto c = from_numpy<float, 3>(cloud, "cloud");
           const auto n = from_numpy<float, 3>(normals, "normals");
           py::gil_scoped_release release;
           return ext::find_support_plane(c, n, o);
         },
-        py::arg("cloud"), py::arg("normals"), py::arg("up") = py::none(), py::arg("epsilon") = 0.008,
-        py::arg("min_inliers") = 2000, py::arg("min_height") = 0.006, py::arg("max_height") = 0.40,
-        py::arg("margin") = 0.0, py::arg("seed") = 0,
-        "The dominant horizontal plane under the objects (the table) with its polygon, the mask of the "
-        "points above it (roi) and a world frame with z up. `up`: the camera-frame direction against "
-        "gravity when known. Raises InputError when there is no such plane.");
+        py::arg("cloud"), py::arg("normals"), py::arg("up") = py::none(),
+        pu::takes_options(m, "find_support_plane", "SupportPlaneOptions",
+                          "The dominant horizontal plane under the objects (the table) with its polygon, the mask "
+                          "of the points above it (roi) and a world frame with z up. `up`: the camera-frame "
+                          "direction against gravity when known. Raises InputError when there is no such plane.")
+            .c_str());
 }

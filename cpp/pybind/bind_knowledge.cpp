@@ -11,11 +11,14 @@
 #include "mereo/knowledge/bayes.hpp"
 #include "mereo/knowledge/model_file.hpp"
 #include "mereo/knowledge/predicates.hpp"
+#include "mereo/matching/interpret.hpp"
 #include "mereo/matching/match.hpp"
+#include "options.hpp"
 
 namespace py = pybind11;
 namespace kn = mereo::knowledge;
 namespace mt = mereo::matching;
+namespace pu = mereo::py_util;
 
 void bind_knowledge(py::module_& m) {
   using mereo::Segment;
@@ -184,35 +187,41 @@ void bind_knowledge(py::module_& m) {
       {[](const mereo::graph::Value& v) { return py::cast(v.get<std::vector<Segment>>()); },
        [](const py::handle& h) { return mereo::graph::Value::make<std::vector<Segment>>(h.cast<std::vector<Segment>>()); }});
 
-  auto options = [](int best, double min_score, std::optional<Eigen::Vector3d> up) {
-    mt::MatchOptions o;
-    o.best = best, o.min_score = min_score;
+  pu::register_options<mt::MatchOptions>("MatchOptions");
+  pu::register_options<mt::InterpretOptions>("InterpretOptions");
+  auto options = [](const char* function, const py::kwargs& kw, std::optional<Eigen::Vector3d> up) {
+    auto o = pu::options_from_kwargs<mt::MatchOptions>(function, kw);
     if (up) o.context.up = *up;
     return o;
   };
   m.def("match",
-        [options](const kn::Concept& c, const std::vector<Segment>& segs, int best, double min_score,
-                  std::optional<Eigen::Vector3d> up, bool exhaustive, const kn::KnowledgeBase* kb) {
+        [options](const kn::Concept& c, const std::vector<Segment>& segs, std::optional<Eigen::Vector3d> up,
+                  bool exhaustive, const kn::KnowledgeBase* kb, py::kwargs kw) {
+          auto o = options("match", kw, up);
+          o.kb = kb;
           mt::MatchStats st;
           std::vector<mt::Hypothesis> h;
           {
             py::gil_scoped_release release;  // Python predicates take it back
-            auto o = options(best, min_score, up);
-            o.kb = kb;
             h = exhaustive ? mt::match_exhaustive(c, segs, o, &st) : mt::match(c, segs, o, &st);
           }
           return py::make_tuple(h, st);
         },
-        py::arg("concept"), py::arg("segments"), py::arg("best") = 10, py::arg("min_score") = 1e-6,
-        py::arg("up") = py::none(), py::arg("exhaustive") = false, py::arg("kb") = nullptr,
-        "The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats). "
-        "`kb` resolves parts whose class is a concept.");
+        py::arg("concept"), py::arg("segments"), py::arg("up") = py::none(), py::arg("exhaustive") = false,
+        py::arg("kb") = nullptr,
+        pu::takes_options(m, "match", "MatchOptions",
+                          "The N best hypotheses of a (resolved) concept and the search counters: (list, "
+                          "MatchStats). `kb` resolves parts whose class is a concept.")
+            .c_str());
   m.def("recognize",
         [options](const kn::KnowledgeBase& kb, const std::vector<std::string>& names, const std::vector<Segment>& segs,
-                  int best, double min_score, std::optional<Eigen::Vector3d> up) {
+                  std::optional<Eigen::Vector3d> up, py::kwargs kw) {
+          const auto o = options("recognize", kw, up);
           py::gil_scoped_release release;
-          return mt::recognize(kb, names, segs, options(best, min_score, up));
+          return mt::recognize(kb, names, segs, o);
         },
-        py::arg("kb"), py::arg("concepts"), py::arg("segments"), py::arg("best") = 10, py::arg("min_score") = 1e-6,
-        py::arg("up") = py::none(), "Every concept matched (in parallel): the lattice of hypotheses.");
+        py::arg("kb"), py::arg("concepts"), py::arg("segments"), py::arg("up") = py::none(),
+        pu::takes_options(m, "recognize", "MatchOptions",
+                          "Every concept matched (in parallel): the lattice of hypotheses.")
+            .c_str());
 }

@@ -15,6 +15,7 @@ void bind_features(py::module_& m);
 void bind_knowledge(py::module_& m);
 void bind_graph(py::module_& m);
 void bind_testing(py::module_& m);
+void bind_options(py::module_& m);
 
 PYBIND11_MODULE(_mereo, m) {
   m.doc() = "mereo's C++ core; import the names from the mereo package instead.";
@@ -37,4 +38,5 @@ PYBIND11_MODULE(_mereo, m) {
   bind_graph(m);  // Graph, FrameQueue, errors at the top level; node kinds in mereo._mereo.nodes
   auto testing = m.def_submodule("_testing", "For mereo's own tests only.");
   bind_testing(testing);
+  bind_options(m);  // mereo.options_of (after the modules that register their options)
 }

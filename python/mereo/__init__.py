@@ -8,7 +8,7 @@ The numeric work happens in C++ (``mereo._mereo``); this package names it::
     result = mereo.recognize(frame, models=["mug"])  # one line of `mereo recognize`, as a dict
 """
 from . import _mereo
-from ._mereo import Frame, InputError, Intrinsics, nodes
+from ._mereo import Frame, InputError, Intrinsics, nodes, options_of
 from . import extension, features, io, knowledge, preview, signal, synthetic
 from .graph import FrameQueue, Graph, GraphError, NodeError
 from . import evaluate, recognition
@@ -30,6 +30,7 @@ __all__ = [
     "io",
     "knowledge",
     "nodes",
+    "options_of",
     "preview",
     "recognition",
     "recognize",

@@ -12,7 +12,7 @@ from . import features
 from . import knowledge
 from . import nodes
 from . import _testing
-__all__: list[str] = ['Frame', 'FrameQueue', 'Graph', 'GraphError', 'InputError', 'Intrinsics', 'Node', 'NodeError', 'NodeTemplate', 'Port', 'extension', 'features', 'io', 'knowledge', 'node_doc', 'nodes', 'signal', 'synthetic']
+__all__: list[str] = ['Frame', 'FrameQueue', 'Graph', 'GraphError', 'InputError', 'Intrinsics', 'Node', 'NodeError', 'NodeTemplate', 'Port', 'extension', 'features', 'io', 'knowledge', 'node_doc', 'nodes', 'options_of', 'signal', 'synthetic']
 class InputError(ValueError):
     pass
 class Intrinsics:
@@ -237,5 +237,9 @@ class Graph:
 def node_doc(kind: str) -> str:
     """
     The doc, ports and options of a node kind.
+    """
+def options_of(what: typing.Any) -> list:
+    """
+    The options of an options struct ('DetectOptions'), a function that takes keyword options (mereo.features.detect_primitives) or a node kind ('detect_primitives', mereo.nodes.detect_primitives): a list of {'name', 'type', 'default', 'min', 'max', 'choices', 'doc'}.
     """
 __version__: str = '0.1.0'

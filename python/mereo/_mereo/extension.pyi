@@ -51,13 +51,29 @@ def back_project(depth: typing.Any, intrinsics: mereo._mereo.Intrinsics) -> typi
     """
     Back-projects an (H, W) depth image in metres.
     """
-def estimate_normals(cloud: typing.Any, method: str = 'fast', window: typing.SupportsInt = 5, depth_change_factor: typing.SupportsFloat = 0.02, adaptive_window: bool = True, reference_depth: typing.SupportsFloat = 1.0, noise_depth: typing.SupportsFloat = 2.0) -> typing.Any:
+def estimate_normals(cloud: typing.Any, **kwargs) -> typing.Any:
     """
-    Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN where undefined. method 'fast' (least-squares tangents) or 'covariance' (PCA, integral images); windows never cross a depth jump larger than depth_change_factor * z (growing as z^2 beyond noise_depth metres).
+    Per-pixel unit normals of an (H, W, 3) cloud: (H, W, 3) float32, towards the camera, NaN where undefined. Windows never cross a depth jump larger than depth_change_factor * z (growing as z^2 beyond noise_depth metres).
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        method (str, default fast, one of fast covariance): fast: least-squares tangents; covariance: PCA through integral images
+        window (int, default 5, 3..101): window side in pixels (odd)
+        depth_change_factor (float, default 0.02, 0.0001..1): a depth jump larger than this times z breaks smoothing
+        noise_depth (float, default 2, 0.1..100): metres: beyond it the jump threshold grows as z^2 (sensor noise)
+        adaptive_window (bool, default true): covariance: the window shrinks with depth (constant metric size)
+        reference_depth (float, default 1, 0.1..10): metres: depth at which the adaptive window equals `window`
     """
-def find_support_plane(cloud: typing.Any, normals: typing.Any, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, epsilon: typing.SupportsFloat = 0.008, min_inliers: typing.SupportsInt = 2000, min_height: typing.SupportsFloat = 0.006, max_height: typing.SupportsFloat = 0.4, margin: typing.SupportsFloat = 0.0, seed: typing.SupportsInt = 0) -> SupportPlane:
+def find_support_plane(cloud: typing.Any, normals: typing.Any, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, **kwargs) -> SupportPlane:
     """
     The dominant horizontal plane under the objects (the table) with its polygon, the mask of the points above it (roi) and a world frame with z up. `up`: the camera-frame direction against gravity when known. Raises InputError when there is no such plane.
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        seed (int, default 0, 0..1e+15): random seed of the plane hypotheses
+        epsilon (float, default 0.008, 0.0001..0.1): inlier distance at 1 m, metres
+        min_inliers (int, default 2000, 10..1e+07): fewest points of the plane
+        min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
+        max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
+        margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres
     """
 def fit_intrinsics(cloud: typing.Any) -> tuple:
     """

@@ -355,13 +355,21 @@ def builtin_models() -> KnowledgeBase:
     """
     The shipped models (graphs/models/*.yaml).
     """
-def match(concept: Concept, segments: collections.abc.Sequence[Segment], best: typing.SupportsInt = 10, min_score: typing.SupportsFloat = 1e-06, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, exhaustive: bool = False, kb: KnowledgeBase = None) -> tuple:
+def match(concept: Concept, segments: collections.abc.Sequence[Segment], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, exhaustive: bool = False, kb: KnowledgeBase = None, **kwargs) -> tuple:
     """
     The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats). `kb` resolves parts whose class is a concept.
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        best (int, default 10, 1..1000): hypotheses kept per concept
+        min_score (float, default 1e-06, 0..1): hypotheses below this score are dropped
     """
-def recognize(kb: KnowledgeBase, concepts: collections.abc.Sequence[str], segments: collections.abc.Sequence[Segment], best: typing.SupportsInt = 10, min_score: typing.SupportsFloat = 1e-06, up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None) -> Lattice:
+def recognize(kb: KnowledgeBase, concepts: collections.abc.Sequence[str], segments: collections.abc.Sequence[Segment], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, **kwargs) -> Lattice:
     """
     Every concept matched (in parallel): the lattice of hypotheses.
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        best (int, default 10, 1..1000): hypotheses kept per concept
+        min_score (float, default 1e-06, 0..1): hypotheses below this score are dropped
     """
 def select(concept: Concept, modality: str = '', detail: Detail = ...) -> Concept:
     """

@@ -26,7 +26,7 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         segments (Segments): the primitives with parameters and inlier pixels
     Options:
         seed (int, default 0, 0..1e+15): the only source of randomness
-        classes (str, default plane,cylinder,sphere,torus): classes to look for
+        classes (str, default plane,cylinder,torus,sphere): classes to look for
         epsilon (float, default 0.006, 0.0001..0.1): inlier distance at 1 m, metres
         normal_deviation_deg (float, default 25, 1..90): inlier normal deviation
         min_support (int, default 250, 10..1e+07): fewest pixels of a segment

@@ -128,7 +128,11 @@ FieldValue field_value_from_python(const std::string& function, const std::strin
     throw py::type_error(function + "(): option '" + name + "' must be " + python_type(kind) + ", got " +
                          py::str(py::type::of(h)).cast<std::string>());
   };
-  const bool is_bool = py::isinstance<py::bool_>(h) || py::type::of(h).attr("__name__").cast<std::string>() == "bool_";
+  const auto type = py::type::of(h);
+  const auto type_name = type.attr("__name__").cast<std::string>();
+  const bool is_bool = py::isinstance<py::bool_>(h) ||  // or NumPy's (numpy.bool_, numpy.bool in NumPy 2)
+                       (py::str(py::getattr(type, "__module__", py::str(""))).cast<std::string>() == "numpy" &&
+                        (type_name == "bool_" || type_name == "bool"));
   switch (kind) {
     case FieldKind::Bool:
       return is_bool ? FieldValue(h.cast<bool>()) : wrong();

@@ -135,3 +135,15 @@ def test_options_of_unknown_names():
         mereo.options_of("DetectOption")
     with pytest.raises(ValueError, match="takes no described options"):
         mereo.options_of(F.label_image)
+
+
+def test_numpy_scalars_are_options(scene):
+    frame, cloud, _, _ = scene
+    np.testing.assert_array_equal(S.filter_depth(frame.depth, radius=np.int64(2), sigma_space=np.float32(1.5)),
+                                  S.filter_depth(frame.depth))
+    np.testing.assert_array_equal(E.estimate_normals(cloud, adaptive_window=np.bool_(False), window=5.0),
+                                  E.estimate_normals(cloud, adaptive_window=False))
+    with pytest.raises(TypeError, match="option 'adaptive_window' must be bool"):
+        E.estimate_normals(cloud, adaptive_window=1)
+    with pytest.raises(ValueError, match="option 'window': must be int, got '5.5'"):
+        E.estimate_normals(cloud, window=5.5)

@@ -242,14 +242,12 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   expect_node_options_are<nodes::ReportNodeOptions>(specs, "report");
   expect_node_options_are<nodes::TrackObjectsNodeOptions>(specs, "track_objects");
   expect_node_options_are<nodes::OdometryNodeOptions>(specs, "odometry");
-  // every other kind with options is a diagnostic of the engine (its own knobs, no library struct)
+  // and no other kind has options
   const std::set<std::string> checked{"detect_primitives", "estimate_normals", "support_plane", "filter_depth",
                                       "match_models",      "report",           "track_objects", "odometry"};
-  const std::set<std::string> diagnostics{"checksum", "fail_on_frame"};
   for (const auto& s : specs)
     if (!s.options.empty())
-      EXPECT_TRUE(checked.count(s.kind) || diagnostics.count(s.kind))
-          << "node kind " << s.kind << " has options but no described options struct in this test";
+      EXPECT_TRUE(checked.count(s.kind)) << "node kind " << s.kind << " has options but no described options struct in this test";
 }
 
 TEST(Options, NestedStructsKeepTheirNamesAndTheNodesDefaults) {

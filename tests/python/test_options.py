@@ -20,7 +20,6 @@ NODES = {
     "track_objects": ("TrackOptions", None, {"file"}, set()),
     "odometry": ("OdometryOptions", None, {"replace"}, set()),
 }
-DIAGNOSTICS = {"checksum", "fail_on_frame"}  # the engine's test nodes: no library struct
 
 
 def as_node_value(info):
@@ -31,7 +30,7 @@ def as_node_value(info):
 
 def test_every_node_kind_with_options_is_checked():
     with_options = {k for k in mereo.nodes.__all__ if mereo.options_of(k)}
-    assert with_options == set(NODES) | DIAGNOSTICS
+    assert with_options == set(NODES)
 
 
 @pytest.mark.parametrize("kind", sorted(NODES))

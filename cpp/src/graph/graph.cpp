@@ -2,6 +2,7 @@
 #include "mereo/graph/graph.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -118,7 +119,12 @@ std::string port_list(const std::vector<PortSpec>& ports) {
 
 const NodeInstance& Graph::add(const std::string& kind, std::string name,
                                const std::map<std::string, OptionValue>& options, int line) {
-  const std::string where = at_line(file_, line);
+  return add_at(file_, line, kind, std::move(name), options);
+}
+
+const NodeInstance& Graph::add_at(const std::string& file, int line, const std::string& kind, std::string name,
+                                  const std::map<std::string, OptionValue>& options) {
+  const std::string where = at_line(file, line);
   const NodeSpec* spec = nullptr;
   try {
     spec = &node_spec(kind);
@@ -137,6 +143,7 @@ const NodeInstance& Graph::add(const std::string& kind, std::string name,
   NodeInstance n;
   n.name = name;
   n.kind = kind;
+  n.file = file;
   n.line = line;
   n.given = options;
   try {
@@ -155,6 +162,7 @@ void Graph::set_options(const std::string& name, const std::map<std::string, Opt
     for (const auto& [k, v] : options) given[k] = v;
     n.options = n.spec().validate(name, given);
     n.given = std::move(given);
+    bodies_.erase(name);  // made for the old options
     return;
   }
   throw GraphError("no node named '" + name + "'");
@@ -173,21 +181,23 @@ const NodeInstance& Graph::add_custom(NodeSpec spec, std::string name) {
   return nodes_.back();
 }
 
-void Graph::connect(const std::string& from, const std::string& to, int line) {
+void Graph::connect(const std::string& from, const std::string& to, int line) { connect_at(file_, line, from, to); }
+
+void Graph::connect_at(const std::string& file, int line, const std::string& from, const std::string& to) {
   auto split = [&](const std::string& s) {
     const auto dot = s.find('.');
     if (dot == std::string::npos || dot == 0 || dot + 1 == s.size())
-      throw GraphError(at_line(file_, line) + "'" + s + "' is not of the form node.port");
+      throw GraphError(at_line(file, line) + "'" + s + "' is not of the form node.port");
     return std::make_pair(s.substr(0, dot), s.substr(dot + 1));
   };
   const auto [fn, fp] = split(from);
   const auto [tn, tp] = split(to);
-  connect(fn, fp, tn, tp, line);
+  edges_.push_back({fn, fp, tn, tp, file, line});
 }
 
 void Graph::connect(const std::string& from_node, const std::string& from_port, const std::string& to_node,
                     const std::string& to_port, int line) {
-  edges_.push_back({from_node, from_port, to_node, to_port, line});
+  edges_.push_back({from_node, from_port, to_node, to_port, file_, line});
 }
 
 void Graph::set_overflow(Overflow policy, std::size_t capacity) {
@@ -211,7 +221,7 @@ void Graph::verify() const {
   };
   std::map<std::pair<std::string, std::string>, const Edge*> fed;
   for (const auto& e : edges_) {
-    const std::string where = at_line(file_, e.line) + "edge " + e.from_node + "." + e.from_port + " -> " +
+    const std::string where = at_line(e.file, e.line) + "edge " + e.from_node + "." + e.from_port + " -> " +
                               e.to_node + "." + e.to_port + ": ";
     const NodeInstance* a = find(e.from_node);
     const NodeInstance* b = find(e.to_node);
@@ -235,24 +245,17 @@ void Graph::verify() const {
     fed[key] = &e;
   }
   for (const auto& n : nodes_) {
+    const std::string where = at_line(n.file, n.line) + "node '" + n.name + "' (" + n.kind + "): ";
+    if (n.spec().constant && !n.spec().inputs.empty())
+      throw GraphError(where + "a constant node kind cannot have inputs");
     for (const auto& p : n.spec().inputs)
       if (p.required && !fed.count({n.name, p.name}))
-        throw GraphError(at_line(file_, n.line) + "node '" + n.name + "' (" + n.kind + "): required input port '" +
-                         p.name + "' (" + p.type + ") is not connected");
+        throw GraphError(where + "required input port '" + p.name + "' (" + p.type + ") is not connected");
     // Option values were checked by add(); check again for options changed since.
     try {
       n.spec().validate(n.name, n.options.values());
     } catch (const GraphError& e) {
-      throw GraphError(at_line(file_, n.line) + e.what());
-    }
-    // What a node checks when it is made (a model file, concept names...) fails here, not on
-    // the first frame.
-    if (n.spec().make) {
-      try {
-        n.spec().make(n.options);
-      } catch (const std::exception& e) {
-        throw GraphError(at_line(file_, n.line) + "node '" + n.name + "' (" + n.kind + "): " + e.what());
-      }
+      throw GraphError(at_line(n.file, n.line) + e.what());
     }
   }
   // Cycles: Kahn's algorithm; whatever is left lies on or behind a cycle.
@@ -279,7 +282,18 @@ void Graph::verify() const {
     const NodeInstance* first = nullptr;
     for (const auto& [name, d] : indegree)
       if (d > 0 && !first) first = find(name);
-    throw GraphError(at_line(file_, first ? first->line : 0) + "the graph has a cycle through nodes: " + cycle);
+    throw GraphError((first ? at_line(first->file, first->line) : std::string()) +
+                     "the graph has a cycle through nodes: " + cycle);
+  }
+  // What a node checks when it is made (a model file, concept names...) fails here, not on the
+  // first frame; the body is kept for the next run (bodies_), which then makes no other.
+  for (const auto& n : nodes_) {
+    if (!n.spec().make || bodies_.count(n.name)) continue;
+    try {
+      bodies_[n.name] = n.spec().make(n.options);
+    } catch (const std::exception& e) {
+      throw GraphError(at_line(n.file, n.line) + "node '" + n.name + "' (" + n.kind + "): " + e.what());
+    }
   }
 }
 
@@ -327,46 +341,116 @@ std::string yaml_value(const OptionValue& v) {
 
 }  // namespace
 
+namespace {
+
+std::string read_file(const std::string& path, bool* ok) {
+  std::ifstream in(path);
+  *ok = bool(in);
+  std::stringstream s;
+  if (in) s << in.rdbuf();
+  return s.str();
+}
+
+// The same file under every spelling of its path (a cycle of `extends`).
+std::string file_key(const std::string& path) {
+  std::error_code ec;
+  const auto p = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path : p.string();
+}
+
+}  // namespace
+
 Graph Graph::parse(const std::string& text, const std::string& file) {
+  Graph g;
+  g.file_ = file;
+  std::vector<std::string> chain{file_key(file)};
+  g.read_yaml(text, file, chain);
+  g.verify();
+  return g;
+}
+
+void Graph::read_yaml(const std::string& text, const std::string& file, std::vector<std::string>& chain) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw GraphError(file + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
   }
-  Graph g;
-  g.file_ = file;
   auto fail = [&](const YAML::Node& n, const std::string& msg) {
     throw GraphError(file + ":" + std::to_string(line_of(n)) + ": " + msg);
   };
   if (!root.IsMap()) throw GraphError(file + ": a graph file is a mapping with 'nodes' and 'edges'");
   for (const auto& kv : root) {
     const std::string key = kv.first.Scalar();
-    if (key != "name" && key != "doc" && key != "nodes" && key != "edges" && key != "live")
-      fail(kv.first, "unknown field '" + key + "' (fields: name, doc, nodes, edges, live)");
+    if (key != "name" && key != "doc" && key != "extends" && key != "nodes" && key != "edges" && key != "live")
+      fail(kv.first, "unknown field '" + key + "' (fields: name, doc, extends, nodes, edges, live)");
   }
+  // The base graph first: its nodes and edges, with their own files and lines.
+  const YAML::Node base = root["extends"];
+  if (base) {
+    if (!base.IsScalar() || base.Scalar().empty()) fail(base, "'extends' names one graph file");
+    std::filesystem::path path(base.Scalar());
+    if (path.is_relative()) path = std::filesystem::path(file).parent_path() / path;
+    const std::string key = file_key(path.string());
+    if (std::find(chain.begin(), chain.end(), key) != chain.end()) {
+      std::string cycle;
+      for (const auto& c : chain) cycle += c + " -> ";
+      fail(base, "'extends' makes a cycle: " + cycle + key);
+    }
+    bool ok = false;
+    const std::string base_text = read_file(path.string(), &ok);
+    if (!ok) fail(base, "cannot open the graph file '" + path.string() + "' that it extends");
+    chain.push_back(key);
+    try {
+      read_yaml(base_text, path.string(), chain);
+    } catch (const GraphError& e) {
+      throw GraphError(std::string(e.what()) + " (in the graph extended by " + file + ":" +
+                       std::to_string(line_of(base)) + ")");
+    }
+    chain.pop_back();
+  }
+  const std::size_t inherited_nodes = nodes_.size(), inherited_edges = edges_.size();
   const YAML::Node nodes = root["nodes"];
-  if (!nodes || !nodes.IsSequence()) throw GraphError(file + ": 'nodes' must be a list of nodes");
-  for (const auto& n : nodes) {
+  if (!nodes && !base) throw GraphError(file + ": 'nodes' must be a list of nodes");
+  if (nodes && !nodes.IsSequence()) fail(nodes, "'nodes' must be a list of nodes");
+  std::set<std::string> overridden;
+  for (const auto& n : nodes ? nodes : YAML::Node(YAML::NodeType::Sequence)) {
     if (!n.IsMap()) fail(n, "a node is a mapping with 'name' and 'kind'");
     for (const auto& kv : n) {
       const std::string key = kv.first.Scalar();
       if (key != "name" && key != "kind" && key != "options")
         fail(kv.first, "unknown field '" + key + "' in a node (fields: name, kind, options)");
     }
-    if (!n["kind"]) fail(n, "node without 'kind'");
     if (!n["name"]) fail(n, "node without 'name'");
+    const std::string name = n["name"].Scalar();
     std::map<std::string, OptionValue> options;
     if (const YAML::Node o = n["options"]) {
-      if (!o.IsMap()) fail(o, "node '" + n["name"].Scalar() + "': 'options' must be a mapping");
+      if (!o.IsMap()) fail(o, "node '" + name + "': 'options' must be a mapping");
       for (const auto& kv : o)
         options[kv.first.Scalar()] =
-            option_from_yaml(kv.second, file, "option '" + kv.first.Scalar() + "' of node '" + n["name"].Scalar() + "'");
+            option_from_yaml(kv.second, file, "option '" + kv.first.Scalar() + "' of node '" + name + "'");
     }
-    g.add(n["kind"].Scalar(), n["name"].Scalar(), options, line_of(n));
+    const auto inherited = std::find_if(nodes_.begin(), nodes_.begin() + std::ptrdiff_t(inherited_nodes),
+                                        [&](const NodeInstance& x) { return x.name == name; });
+    if (inherited == nodes_.begin() + std::ptrdiff_t(inherited_nodes)) {
+      if (!n["kind"]) fail(n, "node without 'kind'");
+      add_at(file, line_of(n), n["kind"].Scalar(), name, options);
+      continue;
+    }
+    // A node of the base graph: its options are overridden, its kind stays.
+    if (!overridden.insert(name).second) fail(n, "node '" + name + "' is defined twice");
+    if (n["kind"] && n["kind"].Scalar() != inherited->kind)
+      fail(n["kind"], "node '" + name + "' is a " + inherited->kind + " in " + at_line(inherited->file, inherited->line) +
+                          "a node of the base graph keeps its kind (give the new node another name)");
+    try {
+      set_options(name, options);
+    } catch (const GraphError& e) {
+      fail(n, e.what());
+    }
   }
   if (const YAML::Node edges = root["edges"]) {
     if (!edges.IsSequence()) fail(edges, "'edges' must be a list of 'node.port -> node.port'");
+    std::set<std::size_t> replaced;
     for (const auto& e : edges) {
       if (!e.IsScalar()) fail(e, "an edge is written 'node.port -> node.port'");
       const std::string s = e.Scalar();
@@ -377,7 +461,15 @@ Graph Graph::parse(const std::string& text, const std::string& file) {
         x.erase(x.find_last_not_of(" \t") + 1);
         return x;
       };
-      g.connect(trim(s.substr(0, arrow)), trim(s.substr(arrow + 2)), line_of(e));
+      connect_at(file, line_of(e), trim(s.substr(0, arrow)), trim(s.substr(arrow + 2)));
+      // An edge into an input that the base graph feeds replaces the base's edge, in its place.
+      const Edge& added = edges_.back();
+      for (std::size_t i = 0; i < inherited_edges; ++i)
+        if (edges_[i].to_node == added.to_node && edges_[i].to_port == added.to_port && replaced.insert(i).second) {
+          edges_[i] = added;
+          edges_.pop_back();
+          break;
+        }
     }
   }
   if (const YAML::Node live = root["live"]) {
@@ -401,18 +493,15 @@ Graph Graph::parse(const std::string& text, const std::string& file) {
         fail(kv.first, "unknown field '" + key + "' in 'live' (fields: overflow, capacity)");
       }
     }
-    g.set_overflow(policy, capacity);
+    set_overflow(policy, capacity);
   }
-  g.verify();
-  return g;
 }
 
 Graph Graph::load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw GraphError(path + ": cannot open the graph file");
-  std::stringstream s;
-  s << in.rdbuf();
-  return parse(s.str(), path);
+  bool ok = false;
+  const std::string text = read_file(path, &ok);
+  if (!ok) throw GraphError(path + ": cannot open the graph file");
+  return parse(text, path);
 }
 
 std::string Graph::to_yaml() const {
@@ -461,6 +550,7 @@ std::string Graph::to_dot() const {
       }, v);
     s << "</font>>";
     if (n.spec().is_source) s << ", fillcolor=\"#dff0d8\"";
+    if (n.spec().constant) s << ", fillcolor=\"#fbeed5\"";
     s << "];\n";
   }
   for (const auto& e : edges_)

@@ -99,6 +99,7 @@ struct GraphRunner {
   std::vector<std::string> slot_names;
   std::vector<int> keep_slots;
   std::vector<int> sinks;
+  std::vector<std::pair<int, Value>> constants;  // slot -> the output of a constant node
   Clock::time_point t0 = Clock::now();
   std::mutex trace_mutex;
 
@@ -135,11 +136,12 @@ struct GraphRunner {
       auto c = std::make_unique<CNode>();
       c->inst = &inst[i];
       c->spec = &inst[i].spec();
-      try {
-        c->body = c->spec->make(inst[i].options);
-      } catch (const std::exception& e) {
-        throw GraphError("node '" + inst[i].name + "' (" + inst[i].kind + "): cannot be created: " + e.what());
-      }
+      // the body verify() made for this run (each body is made once per run)
+      auto body = g.bodies_.find(inst[i].name);
+      if (body == g.bodies_.end())
+        throw GraphError("node '" + inst[i].name + "' (" + inst[i].kind + "): its kind has no body");
+      c->body = std::move(body->second);
+      g.bodies_.erase(body);
       for (const auto& p : c->spec->inputs) {
         int slot = -1;
         for (const auto& e : g.edges_)
@@ -154,6 +156,27 @@ struct GraphRunner {
     }
     for (std::size_t k = 0; k < nodes.size(); ++k)
       if (nodes[k]->successors.empty()) sinks.push_back(int(k));
+    // Constant nodes (the knowledge base) run once, now; their outputs go to every frame.
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      if (!nodes[k]->spec->constant) continue;
+      FrameState once;
+      once.slots.resize(slot_names.size());
+      const auto start = Clock::now();
+      try {
+        Context ctx(*nodes[k], once);
+        nodes[k]->body(ctx);
+      } catch (const std::exception& e) {
+        throw GraphError("node '" + nodes[k]->inst->name + "' (" + nodes[k]->inst->kind + "): " + e.what());
+      }
+      nodes[k]->times_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+      for (std::size_t i = 0; i < nodes[k]->output_slot.size(); ++i) {
+        const int slot = nodes[k]->output_slot[i];
+        if (once.slots[slot].empty())
+          throw GraphError("node '" + nodes[k]->inst->name + "' (" + nodes[k]->inst->kind +
+                           "): produced no value on output port '" + nodes[k]->spec->outputs[i].name + "'");
+        constants.emplace_back(slot, once.slots[slot]);
+      }
+    }
     if (o.keep.empty()) {
       for (int k : sinks)
         for (int s : nodes[k]->output_slot) keep_slots.push_back(s);
@@ -170,6 +193,7 @@ struct GraphRunner {
     auto s = std::make_shared<FrameState>();
     s->index = index;
     s->slots.resize(slot_names.size());
+    for (const auto& [slot, v] : constants) s->slots[slot] = v;
     s->node_ms.assign(nodes.size(), -1.0);
     s->pending.reset(new std::atomic<int>[nodes.size()]);
     for (std::size_t k = 0; k < nodes.size(); ++k) s->pending[k] = std::max(1, nodes[k]->predecessors);
@@ -204,7 +228,7 @@ struct GraphRunner {
   /// Runs node k on a frame (the step both modes share).
   void step(int k, FrameState& s) {
     CNode& n = *nodes[k];
-    if (s.failed || n.spec->is_source) return;
+    if (s.failed || n.spec->is_source || n.spec->constant) return;
     const auto start = Clock::now();
     try {
       Context ctx(n, s);

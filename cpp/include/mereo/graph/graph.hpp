@@ -52,13 +52,16 @@ struct NodeInstance {
   std::string kind;
   Options options;
   std::map<std::string, OptionValue> given;  ///< options as written (for saving)
-  int line = 0;                              ///< line in the graph file, 0 if built in code
+  std::string file;                          ///< the graph file that defines it (a base file of
+                                             ///< `extends`), empty if built in code
+  int line = 0;                              ///< line in that file, 0 if built in code
   std::shared_ptr<const NodeSpec> custom;    ///< graph-local spec (Python nodes), else null
   const NodeSpec& spec() const;
 };
 
 struct Edge {
   std::string from_node, from_port, to_node, to_port;
+  std::string file;  ///< the graph file that has it, empty if built in code
   int line = 0;
 };
 
@@ -207,7 +210,9 @@ class Graph {
   void set_options(const std::string& name, const std::map<std::string, OptionValue>& options);
 
   /// Checks kinds, ports, port types, required inputs, option values and cycles; throws
-  /// GraphError naming the node and port (and the file and line for loaded graphs).
+  /// GraphError naming the node and port (and the file and line for loaded graphs). It makes
+  /// the node bodies (what a node checks when it is made, a model file or a list of classes,
+  /// fails here) and keeps them for the next run, so that a run makes each body once.
   void verify() const;
 
   const std::vector<NodeInstance>& nodes() const { return nodes_; }
@@ -217,9 +222,13 @@ class Graph {
   Overflow overflow() const { return overflow_; }
   std::size_t overflow_capacity() const { return overflow_capacity_; }
 
-  /// YAML graph files (graphs/*.yaml): see graphs/README.md for the format.
+  /// YAML graph files (graphs/*.yaml): see graphs/README.md for the format. A file may extend
+  /// another (`extends: base.yaml`, relative to the file; for parse(), to `file_name`'s folder):
+  /// the base's nodes and edges, then the file's nodes (a name the base has: its options
+  /// override the base's) and edges (one into an input the base feeds replaces the base's).
   static Graph load(const std::string& path);
   static Graph parse(const std::string& yaml_text, const std::string& file_name = "<text>");
+  /// A self-contained file (no `extends`): every node with the options given to it.
   std::string to_yaml() const;
   void save(const std::string& path) const;
   /// A graphviz drawing (dot language): nodes with their kinds, edges labelled by port.
@@ -242,11 +251,19 @@ class Graph {
 
  private:
   friend struct GraphRunner;
+  const NodeInstance& add_at(const std::string& file, int line, const std::string& kind, std::string name,
+                             const std::map<std::string, OptionValue>& options);
+  void connect_at(const std::string& file, int line, const std::string& from, const std::string& to);
+  /// Adds the nodes, edges and live settings of a graph file (after those of the file it extends).
+  void read_yaml(const std::string& text, const std::string& file, std::vector<std::string>& chain);
   std::vector<NodeInstance> nodes_;
   std::vector<Edge> edges_;
   std::string file_;
   Overflow overflow_ = Overflow::Block;
   std::size_t overflow_capacity_ = 2;
+  /// Bodies made by verify() for the nodes' current options, by node name; a run takes them
+  /// (and a node's state, a tracker's, is per run), set_options() drops the node's.
+  mutable std::map<std::string, NodeBody> bodies_;
   RunSummary last_summary_;
   struct TraceEvent {
     std::string node;

@@ -91,6 +91,9 @@ struct NodeSpec {
   /// implies serial.
   bool ordered = false;
   bool is_source = false;             ///< fed by the run's frame source (frame_source only)
+  /// No inputs: runs once per run, before the first frame, and its outputs feed every frame
+  /// (the knowledge base of the `models` node).
+  bool constant = false;
 
   const PortSpec* input(const std::string& name) const;
   const PortSpec* output(const std::string& name) const;

@@ -82,11 +82,12 @@ def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | Non
     if goal:
         models = [goal]
         g.set_options("primitives", **goal_options(goal, models_file))
-    if models:
-        g.set_options("objects", models=",".join(models))
+    # the graph's one models node: the concepts looked for and the model file
+    options = {"models": ",".join(models)} if models else {}
     if models_file:
-        for node in ("objects", "result") + (("tracks",) if tracking else ()):
-            g.set_options(node, file=str(models_file))
+        options["file"] = str(models_file)
+    if options:
+        g.set_options("models", **options)
     g.verify()
     return g
 

@@ -1,12 +1,13 @@
 // The dataflow engine alone (it links only the engine's objects): verification errors, graph
-// files, both execution modes, error policies, live sources with overflow policies, port
-// types. Its port types, source kind and scale_depth node are the tests' own; identity,
+// files (and files that extend others), both execution modes, error policies, live sources with
+// overflow policies, port types, node bodies made once per run, constant nodes. Its port types, source kind and scale_depth node are the tests' own; identity,
 // checksum and fail_on_frame come from tests/support/test_nodes.hpp.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -215,6 +216,195 @@ TEST(GraphFile, SaveLoadRoundTrip) {
   std::filesystem::remove(path);
   const std::string dot = g.to_dot();
   EXPECT_NE(dot.find("\"source\" -> \"work1\""), std::string::npos);
+}
+
+namespace {
+
+// A folder of graph files for one test, removed afterwards.
+struct TempDir {
+  std::filesystem::path path;
+  explicit TempDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() / ("mereo_test_" + name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name) << text;
+    return (path / name).string();
+  }
+};
+
+const char* kBase =
+    "name: base\n"
+    "nodes:\n"
+    "  - name: source\n"
+    "    kind: frame_source\n"
+    "  - name: scaled\n"
+    "    kind: scale_depth\n"
+    "  - name: work\n"
+    "    kind: checksum\n"
+    "    options: {rounds: 2}\n"
+    "edges:\n"
+    "  - source.frame -> scaled.frame\n"
+    "  - source.frame -> work.frame\n";
+
+}  // namespace
+
+TEST(GraphFile, ExtendsTakesTheBaseThenOverridesAndAdds) {
+  TempDir dir("extends");
+  dir.write("base.yaml", kBase);
+  std::filesystem::create_directories(dir.path / "more");
+  // a path relative to the file; an option override; a new node; an edge that replaces the base's
+  // edge into work.frame, and a new one
+  const std::string derived = dir.write("more/derived.yaml",
+                                        "extends: ../base.yaml\n"
+                                        "nodes:\n"
+                                        "  - name: work\n"
+                                        "    options: {rounds: 5}\n"
+                                        "  - name: gate\n"
+                                        "    kind: identity\n"
+                                        "edges:\n"
+                                        "  - source.frame -> gate.frame\n"
+                                        "  - gate.frame -> work.frame\n");
+  Graph g = Graph::load(derived);
+  std::vector<std::string> names;
+  for (const auto& n : g.nodes()) names.push_back(n.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"source", "scaled", "work", "gate"}));
+  EXPECT_EQ(g.node("work").options.get_int("rounds"), 5);
+  EXPECT_EQ(g.node("scaled").file, (dir.path / "more/../base.yaml").string());
+  EXPECT_EQ(g.node("gate").file, derived);
+  EXPECT_EQ(g.node("gate").line, 5);
+  ASSERT_EQ(g.edges().size(), 3u);
+  EXPECT_EQ(g.edges()[1].from_node, "gate");  // in the place of the base's source.frame -> work.frame
+  EXPECT_EQ(g.edges()[1].to_node, "work");
+  EXPECT_EQ(g.edges()[2].to_node, "gate");
+  // saved self-contained: the same graph without the base file
+  const std::string text = g.to_yaml();
+  EXPECT_EQ(text.find("extends"), std::string::npos);
+  std::filesystem::remove(dir.path / "base.yaml");
+  Graph h = Graph::parse(text, "saved.yaml");
+  EXPECT_EQ(h.to_yaml(), text);
+  EXPECT_EQ(h.node("work").options.get_int("rounds"), 5);
+  EXPECT_NE(error_of([&] { Graph::load(derived); }).find("derived.yaml:1: cannot open the graph file"), std::string::npos);
+}
+
+TEST(GraphFile, ExtendsErrorsNameTheFileAndLine) {
+  TempDir dir("extends_errors");
+  dir.write("base.yaml", kBase);
+  // an override that changes the kind
+  auto msg = error_of([&] {
+    Graph::load(dir.write("kind.yaml", "extends: base.yaml\nnodes:\n  - name: work\n    kind: identity\n"));
+  });
+  EXPECT_NE(msg.find("kind.yaml:4: node 'work' is a checksum in "), std::string::npos) << msg;
+  EXPECT_NE(msg.find("base.yaml:7: "), std::string::npos) << msg;
+  // a bad option value in an override
+  msg = error_of([&] {
+    Graph::load(dir.write("option.yaml", "extends: base.yaml\nnodes:\n  - name: work\n    options: {rounds: 0}\n"));
+  });
+  EXPECT_NE(msg.find("option.yaml:3: node 'work' (checksum): option 'rounds' = 0 is outside its range"), std::string::npos)
+      << msg;
+  // an edge of the derived file that names a port that does not exist: its own file and line
+  msg = error_of([&] { Graph::load(dir.write("edge.yaml", "extends: base.yaml\nedges:\n  - scaled.depth -> work.depth\n")); });
+  EXPECT_NE(msg.find("edge.yaml:3: edge scaled.depth -> work.depth"), std::string::npos) << msg;
+  // an error in the base names the base's line and the file that extends it
+  dir.write("broken.yaml", "nodes:\n  - name: a\n    kind: checksum\n    options: {rounds: -1}\n");
+  msg = error_of([&] { Graph::load(dir.write("on_broken.yaml", "# a comment\nextends: broken.yaml\n")); });
+  EXPECT_NE(msg.find("broken.yaml:2: node 'a' (checksum): option 'rounds' = -1"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("(in the graph extended by " + (dir.path / "on_broken.yaml").string() + ":2)"), std::string::npos)
+      << msg;
+  // a cycle of files
+  dir.write("a.yaml", "extends: b.yaml\n");
+  dir.write("b.yaml", "extends: a.yaml\n");
+  msg = error_of([&] { Graph::load((dir.path / "a.yaml").string()); });
+  EXPECT_NE(msg.find("b.yaml:1: 'extends' makes a cycle"), std::string::npos) << msg;
+  // a base node overridden twice in one file
+  msg = error_of([&] {
+    Graph::load(dir.write("twice.yaml", "extends: base.yaml\nnodes:\n  - name: work\n  - name: work\n"));
+  });
+  EXPECT_NE(msg.find("twice.yaml:4: node 'work' is defined twice"), std::string::npos) << msg;
+}
+
+namespace {
+
+std::atomic<int> made{0}, ran{0};
+
+// A constant node whose making and running are counted, and a node that reads it (graph-local
+// kinds: the registered list stays the tests' own).
+NodeSpec counted_constant() {
+  NodeSpec c;
+  c.kind = "counted_constant";
+  c.outputs = {{"value", "Number", ""}};
+  c.options = {{"value", OptionType::Double, 3.0, 0, 100, {}, ""}};
+  c.constant = true;
+  c.make = [](const Options& o) {
+    ++made;
+    const double v = o.get_double("value");
+    return NodeBody([v](NodeContext& ctx) {
+      ++ran;
+      ctx.output("value", v);
+    });
+  };
+  return c;
+}
+
+NodeSpec counted_use() {
+  NodeSpec u;
+  u.kind = "counted_use";
+  u.inputs = {{"frame", "Frame", ""}, {"value", "Number", ""}};
+  u.outputs = {{"value", "Number", ""}};
+  u.make = [](const Options&) {
+    ++made;
+    return NodeBody([](NodeContext& ctx) { ctx.output("value", ctx.input<double>("value") + double(ctx.frame_index())); });
+  };
+  return u;
+}
+
+}  // namespace
+
+TEST(GraphRun, BodiesAreMadeOncePerRunAndConstantNodesRunOnce) {
+  Graph g;
+  g.add("frame_source", "source");
+  g.add_custom(counted_constant(), "k");
+  g.add_custom(counted_use(), "use");
+  g.connect("source.frame", "use.frame");
+  g.connect("k.value", "use.value");
+  made = 0, ran = 0;
+  g.verify();
+  EXPECT_EQ(made, 2);
+  g.verify();
+  EXPECT_EQ(made, 2);  // kept for the next run
+  std::vector<TestFrame> frames(sequence50().begin(), sequence50().begin() + 6);
+  for (Mode mode : {Mode::Deterministic, Mode::Parallel}) {
+    made = 0, ran = 0;
+    RunOptions o;
+    o.mode = mode;
+    o.keep = {"use.value", "k.value"};
+    const auto r = g.run_all(FrameSource::recorded(frames), o);
+    EXPECT_EQ(made, mode == Mode::Deterministic ? 0 : 2);  // the second run makes fresh bodies
+    EXPECT_EQ(ran, 1);  // the constant node ran once, before the frames
+    ASSERT_EQ(r.size(), 6u);
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      EXPECT_EQ(r[i].outputs.at("use.value").get<double>(), 3.0 + double(i));
+      EXPECT_EQ(r[i].outputs.at("k.value").get<double>(), 3.0);  // every frame has it
+      EXPECT_FALSE(r[i].timings_ms.count("k"));                  // not a per-frame node
+    }
+  }
+  // new options: that node's body is made again, the others' are kept
+  g.verify();
+  made = 0;
+  g.set_options("k", {{"value", 4.0}});
+  g.verify();
+  EXPECT_EQ(made, 1);
+  RunOptions o;
+  o.keep = {"use.value"};
+  EXPECT_EQ(g.run_all(FrameSource::recorded(frames), o)[0].outputs.at("use.value").get<double>(), 4.0);
+  EXPECT_EQ(made, 1);
+  // what a body rejects when it is made fails verify(), naming the node
+  NodeSpec picky = counted_constant();
+  picky.kind = "picky";
+  picky.make = [](const Options&) -> NodeBody { throw std::invalid_argument("option 'value': not today"); };
+  g.add_custom(picky, "p");
+  EXPECT_NE(error_of([&] { g.verify(); }).find("node 'p' (picky): option 'value': not today"), std::string::npos);
 }
 
 TEST(GraphRun, BothModesGiveIdenticalResultsOver50Frames) {

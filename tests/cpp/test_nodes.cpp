@@ -1,5 +1,6 @@
 // The library's node kinds and port types in the engine: what register_builtin() registers,
-// the shipped graph files, and the built-in nodes in both execution modes.
+// the shipped graph files (and how they extend one another), the models node's checks, and the
+// built-in nodes in both execution modes.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -29,11 +30,11 @@ TEST(Builtin, RegistersTheListedKindsAndTypesOnce) {
   for (int i = 0; i < 4; ++i) threads.emplace_back([] { nodes::register_builtin(); });
   for (auto& t : threads) t.join();
   EXPECT_EQ(kinds(), (std::vector<std::string>{"frame_source", "filter_depth", "back_project", "estimate_normals",
-                                               "support_plane", "detect_primitives", "match_models", "odometry",
-                                               "track_objects", "report"}));  // no test-only kinds
-  EXPECT_EQ(type_names(), (std::vector<std::string>{"Cloud", "Color", "Depth", "Frame", "Labels", "Lattice", "Mask",
-                                                    "NormalMap", "Number", "Segments", "SupportPlane", "Text",
-                                                    "Tracks"}));
+                                               "support_plane", "detect_primitives", "models", "match_models",
+                                               "interpret", "odometry", "track_objects", "report"}));  // no test-only kinds
+  EXPECT_EQ(type_names(), (std::vector<std::string>{"Cloud", "Color", "Depth", "Frame", "Interpretation", "Labels",
+                                                    "Lattice", "Mask", "ModelSet", "NormalMap", "Number", "Segments",
+                                                    "SupportPlane", "Text", "Tracks"}));
   EXPECT_EQ(type_of<Frame>().name, "Frame");
   EXPECT_EQ(type_of<Cloud>().name, "Cloud");  // the first of the names of Image<float, 3>
   EXPECT_EQ(Value::make(Cloud(2, 3, 0.0f)).as(*find_type("NormalMap")).describe(), "3x2 normal map, 100% valid");
@@ -47,6 +48,37 @@ TEST(Builtin, EveryShippedGraphLoadsAndVerifies) {
       ++loaded;
     }
   EXPECT_GT(loaded, 0);
+}
+
+TEST(Builtin, ShippedTabletopGraphsExtendOneAnother) {
+  const std::string dir = std::string(MEREO_SOURCE_DIR) + "/graphs/";
+  const Graph base = Graph::load(dir + "tabletop.yaml");
+  const Graph tracking = Graph::load(dir + "tabletop_tracking.yaml");
+  const Graph odometry = Graph::load(dir + "tabletop_odometry.yaml");
+  EXPECT_EQ(tracking.nodes().size(), base.nodes().size() + 1);
+  EXPECT_EQ(odometry.nodes().size(), tracking.nodes().size() + 1);
+  EXPECT_EQ(odometry.node("models").file, base.node("models").file);  // the models in one place
+  auto feeds = [](const Graph& g, const std::string& to) {
+    for (const auto& e : g.edges())
+      if (e.to_node + "." + e.to_port == to) return e.from_node + "." + e.from_port;
+    return std::string();
+  };
+  EXPECT_EQ(feeds(tracking, "result.frame"), "source.frame");
+  EXPECT_EQ(feeds(odometry, "result.frame"), "poses.frame");
+  EXPECT_EQ(feeds(odometry, "tracks.frame"), "poses.frame");
+  EXPECT_EQ(feeds(odometry, "tracks.objects"), "interpretation.objects");
+  EXPECT_EQ(feeds(base, "primitives.unfiltered"), "raw_cloud.cloud");
+}
+
+TEST(Builtin, ModelsAreCheckedWhenTheGraphIsVerified) {
+  try {
+    Graph::parse("nodes:\n  - name: models\n    kind: models\n    options: {models: \"mug,teapot\"}\n", "m.yaml");
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("m.yaml:2: node 'models' (models): "), std::string::npos) << msg;
+    EXPECT_NE(msg.find("teapot"), std::string::npos) << msg;
+  }
 }
 
 TEST(Builtin, DanglingRequiredInputNamesNodeAndPort) {

@@ -6,10 +6,12 @@
 #include <map>
 #include <set>
 
+#include "mereo/cognitive/tracking.hpp"
 #include "mereo/core/options.hpp"
 #include "mereo/extension/normals.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/primitives.hpp"
+#include "mereo/matching/interpret.hpp"
 #include "mereo/signal/depth_filter.hpp"
 #include "nodes/node_options.hpp"
 #include "nodes/options.hpp"
@@ -238,13 +240,16 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   expect_node_options_are<extension::NormalOptions>(specs, "estimate_normals");
   expect_node_options_are<extension::SupportPlaneOptions>(specs, "support_plane");
   expect_node_options_are<signal::DepthFilterOptions>(specs, "filter_depth");
+  expect_node_options_are<nodes::ModelsNodeOptions>(specs, "models");
   expect_node_options_are<nodes::MatchModelsNodeOptions>(specs, "match_models");
+  expect_node_options_are<matching::InterpretOptions>(specs, "interpret");
   expect_node_options_are<nodes::ReportNodeOptions>(specs, "report");
-  expect_node_options_are<nodes::TrackObjectsNodeOptions>(specs, "track_objects");
+  expect_node_options_are<cognitive::TrackOptions>(specs, "track_objects");
   expect_node_options_are<nodes::OdometryNodeOptions>(specs, "odometry");
   // and no other kind has options
   const std::set<std::string> checked{"detect_primitives", "estimate_normals", "support_plane", "filter_depth",
-                                      "match_models",      "report",           "track_objects", "odometry"};
+                                      "models",            "match_models",     "interpret",     "report",
+                                      "track_objects",     "odometry"};
   for (const auto& s : specs)
     if (!s.options.empty())
       EXPECT_TRUE(checked.count(s.kind)) << "node kind " << s.kind << " has options but no described options struct in this test";
@@ -253,19 +258,14 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
 TEST(Options, NestedStructsKeepTheirNamesAndTheNodesDefaults) {
   // the node-level structs hold the library structs: same names, the node's own defaults
   const auto match = describe<nodes::MatchModelsNodeOptions>();
-  ASSERT_EQ(match.size(), 4u);
-  EXPECT_EQ(match[2].name, "best");
-  EXPECT_EQ(std::get<long long>(match[2].default_value), matching::MatchOptions{}.best);
-  EXPECT_EQ(match[3].name, "min_score");
-  EXPECT_EQ(std::get<double>(match[3].default_value), 0.05);  // the node prunes; match() keeps all above 1e-6
-  EXPECT_EQ(to_text(match[0].default_value), "mug,cup,jar,can,bottle,plate,bowl");
-  const auto track = describe<nodes::TrackObjectsNodeOptions>();
-  const auto lib = describe<cognitive::TrackOptions>();
-  ASSERT_EQ(track.size(), lib.size() + 1);
-  for (std::size_t i = 0; i < lib.size(); ++i) {
-    EXPECT_EQ(track[i + 1].name, lib[i].name);
-    EXPECT_EQ(track[i + 1].default_value, lib[i].default_value);
-  }
+  ASSERT_EQ(match.size(), 2u);
+  EXPECT_EQ(match[0].name, "best");
+  EXPECT_EQ(std::get<long long>(match[0].default_value), matching::MatchOptions{}.best);
+  EXPECT_EQ(match[1].name, "min_score");
+  EXPECT_EQ(std::get<double>(match[1].default_value), 0.05);  // the node prunes; match() keeps all above 1e-6
+  const auto models = describe<nodes::ModelsNodeOptions>();
+  ASSERT_EQ(models.size(), 2u);
+  EXPECT_EQ(to_text(models[0].default_value), "mug,cup,jar,can,bottle,plate,bowl");
 }
 
 TEST(Options, DetectPrimitivesClassesByName) {

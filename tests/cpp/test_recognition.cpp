@@ -1,12 +1,15 @@
 // The judgement step and the frame's result: a mug (body and handle) is accepted over a cup or a
 // jar on the same body, which become listed alternatives; a hypothesis sharing no segment is
-// accepted too; the JSON result follows the contract; the overlay draws the parts; and the
+// accepted too; the JSON result follows the contract; the overlay draws the parts; the
+// detect_primitives node takes its camera and unfiltered points from its inputs; and the
 // shipped tabletop graph recognizes the mugs of a rendered frame in both modes alike.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include "mereo/core/error.hpp"
+#include "mereo/extension/projection.hpp"
+#include "mereo/features/primitives.hpp"
 #include "mereo/graph/graph.hpp"
 #include "mereo/io/visualize.hpp"
 #include "mereo/knowledge/model_file.hpp"
@@ -116,6 +119,42 @@ TEST(TabletopGraph, RecognizesTheMugsOfARenderedFrameInBothModes) {
   int mugs = 0;
   for (const auto& o : j["objects"]) mugs += o["accepted"].get<bool>() && o["model"] == "mug";
   EXPECT_EQ(mugs, 3);
+}
+
+TEST(DetectPrimitivesNode, TakesTheFramesCameraAndTheUnfilteredCloudFromItsInputs) {
+  // the node alone against the function it adapts: the focal length of its frame's camera (no
+  // fit to the cloud) and the points of its `unfiltered` input
+  const auto sf = synthetic::render(903);
+  graph::Graph g;
+  g.add("frame_source", "source");
+  g.add("filter_depth", "filter", {{"radius", 1LL}});
+  g.add("back_project", "cloud");
+  g.add("back_project", "raw_cloud");
+  g.add("estimate_normals", "normals");
+  g.add("detect_primitives", "primitives");
+  for (const auto& [a, b] : std::vector<std::pair<std::string, std::string>>{
+           {"source.frame", "filter.frame"}, {"filter.frame", "cloud.frame"}, {"source.frame", "raw_cloud.frame"},
+           {"cloud.cloud", "normals.cloud"}, {"cloud.cloud", "primitives.cloud"}, {"normals.normals", "primitives.normals"},
+           {"source.frame", "primitives.frame"}, {"raw_cloud.cloud", "primitives.unfiltered"}})
+    g.connect(a, b);
+  graph::RunOptions o;
+  o.keep = {"primitives.segments", "cloud.cloud", "normals.normals"};
+  const auto r = g.run_all(graph::FrameSource::recorded({sf.frame}), o).at(0);
+  features::DetectOptions d;
+  d.focal_px = sf.frame.intrinsics.fx;
+  d.unfiltered = extension::back_project(sf.frame);
+  const auto direct = features::detect_primitives(r.outputs.at("cloud.cloud").get<Cloud>(),
+                                                  r.outputs.at("normals.normals").get<NormalMap>(), d, &sf.frame.color);
+  const auto& node = r.outputs.at("primitives.segments").get<std::vector<Segment>>();
+  ASSERT_EQ(node.size(), direct.size());
+  int curved = 0;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    EXPECT_EQ(node[i].cls, direct[i].cls);
+    EXPECT_EQ(node[i].pixels, direct[i].pixels);
+    EXPECT_EQ(node[i].radius, direct[i].radius);
+    curved += node[i].cls == PrimitiveClass::Cylinder;
+  }
+  EXPECT_GE(curved, 3);  // the three mugs' bodies, measured on the unfiltered points
 }
 
 TEST(Interpret, EqualScoresGoToTheMoreSpecificConcept) {

@@ -72,9 +72,11 @@ def test_match_models_node_in_a_graph():
     g = mereo.Graph()
     src = g.add("frame_source", "source")
     g.add_python(lambda frame: mug_segments(), "segments", inputs=[("frame", "Frame")], outputs=[("segments", "Segments")])
-    objects = g.add(mereo.nodes.match_models(models="mug, jar", best=3), "objects")
+    models = g.add(mereo.nodes.models(models="mug, jar"), "models")
+    objects = g.add(mereo.nodes.match_models(best=3), "objects")
     g.connect(src.frame, "segments.frame")
     g.connect("segments.segments", objects.segments)
+    g.connect(models.models, objects.models)
     frame = mereo.synthetic.render(1).frame
     frame.pose = None  # no pose: "up" is the camera's -y, as the segments assume
     (r,) = g.run([frame], keep=["objects.lattice"])
@@ -85,8 +87,10 @@ def test_match_models_node_in_a_graph():
     bad.add("frame_source", "source")
     bad.add_python(lambda frame: mug_segments(), "segments", inputs=[("frame", "Frame")],
                    outputs=[("segments", "Segments")])
-    bad.add(mereo.nodes.match_models(models="mugg"), "objects")
+    bad.add(mereo.nodes.models(models="mugg"), "models")
+    bad.add(mereo.nodes.match_models(), "objects")
     bad.connect("source.frame", "segments.frame")
     bad.connect("segments.segments", "objects.segments")
-    with pytest.raises(mereo.GraphError, match="node 'objects' \\(match_models\\): unknown concept 'mugg'"):
+    bad.connect("models.models", "objects.models")
+    with pytest.raises(mereo.GraphError, match="node 'models' \\(models\\): unknown concept 'mugg'"):
         bad.verify()

@@ -7,7 +7,7 @@ import mereo
 
 F, E, S, K = mereo.features, mereo.extension, mereo.signal, mereo.knowledge
 
-# node kind -> (its library options struct, the Python function of the same step or None,
+# node kind -> (its library options struct or None, the Python function of the same step or None,
 #               the node's own options (not in the struct), options whose node default differs)
 NODES = {
     "detect_primitives": ("DetectOptions", F.detect_primitives, set(), set()),
@@ -15,9 +15,11 @@ NODES = {
     "support_plane": ("SupportPlaneOptions", E.find_support_plane, set(), set()),
     "filter_depth": ("DepthFilterOptions", S.filter_depth, set(), set()),
     # the node drops weak hypotheses early; the search function keeps all above 1e-6
-    "match_models": ("MatchOptions", K.recognize, {"models", "file"}, {"min_score"}),
-    "report": ("InterpretOptions", None, {"file", "track_probability"}, set()),
-    "track_objects": ("TrackOptions", None, {"file"}, set()),
+    "models": (None, None, {"models", "file"}, set()),
+    "match_models": ("MatchOptions", K.recognize, set(), {"min_score"}),
+    "interpret": ("InterpretOptions", None, set(), set()),
+    "report": (None, None, {"track_probability"}, set()),
+    "track_objects": ("TrackOptions", None, set(), set()),
     "odometry": ("OdometryOptions", None, {"replace"}, set()),
 }
 
@@ -38,7 +40,7 @@ def test_node_options_are_the_struct_fields(kind):
     struct, fn, own, differ = NODES[kind]
     node = {o["name"]: o for o in mereo.options_of(getattr(mereo.nodes, kind))}
     assert node == {o["name"]: o for o in mereo.options_of(kind)}
-    fields = {o["name"]: o for o in mereo.options_of(struct)}
+    fields = {o["name"]: o for o in mereo.options_of(struct)} if struct else {}
     assert set(node) - own == set(fields)
     for name, f in fields.items():
         n = node[name]

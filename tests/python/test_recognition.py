@@ -56,19 +56,24 @@ def test_recognize_returns_the_contract(scene, result):
 def test_the_same_pipeline_built_node_by_node(scene, result):
     g = mereo.Graph()
     src = g.add("frame_source", "source")
+    models = g.add("models", "models")
     filt = g.add("filter_depth", "filter", radius=1)
     cloud = g.add("back_project", "cloud")
+    raw = g.add("back_project", "raw_cloud")
     normals = g.add("estimate_normals", "normals")
     table = g.add("support_plane", "table")
     prims = g.add("detect_primitives", "primitives")
     objects = g.add("match_models", "objects")
+    interpretation = g.add("interpret", "interpretation")
     report = g.add("report", "result")
-    for a, b in [(src.frame, filt.frame), (filt.frame, cloud.frame), (cloud.cloud, normals.cloud),
-                 (cloud.cloud, table.cloud), (normals.normals, table.normals), (src.frame, table.frame),
-                 (cloud.cloud, prims.cloud), (normals.normals, prims.normals), (table.roi, prims.roi),
-                 (src.frame, prims.frame), (prims.segments, objects.segments), (table.plane, objects.plane),
-                 (src.frame, report.frame), (prims.segments, report.segments), (objects.lattice, report.lattice),
-                 (table.plane, report.plane)]:
+    for a, b in [(src.frame, filt.frame), (filt.frame, cloud.frame), (src.frame, raw.frame),
+                 (cloud.cloud, normals.cloud), (cloud.cloud, table.cloud), (normals.normals, table.normals),
+                 (src.frame, table.frame), (cloud.cloud, prims.cloud), (normals.normals, prims.normals),
+                 (table.roi, prims.roi), (src.frame, prims.frame), (raw.cloud, prims.unfiltered),
+                 (prims.segments, objects.segments), (models.models, objects.models), (table.plane, objects.plane),
+                 (objects.lattice, interpretation.lattice), (models.models, interpretation.models),
+                 (src.frame, report.frame), (prims.segments, report.segments),
+                 (interpretation.objects, report.objects), (table.plane, report.plane)]:
         g.connect(a, b)
     mine = mereo.recognize(scene.frame, graph=g)
     strip = lambda r: {k: v for k, v in r.items() if k != "timing_ms"}  # noqa: E731

@@ -8,10 +8,11 @@
 //     - normals.normals -> primitives.normals
 //     - table.roi -> primitives.roi          # optional: only the points above the table
 //     - source.frame -> primitives.frame     # optional: colour for the segments' hue, and the
-//                                            # unfiltered depth that cylinders and spheres are
-//                                            # measured on (when the cloud's depth is filtered)
+//                                            # camera's focal length (else fitted to the cloud)
+//     - raw_cloud.cloud -> primitives.unfiltered  # optional: the unfiltered points that
+//                                            # cylinders and spheres are measured on (when the
+//                                            # cloud's depth is filtered)
 #include "mereo/core/frame.hpp"
-#include "mereo/extension/projection.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/primitives.hpp"
 #include "nodes/options.hpp"
@@ -26,7 +27,8 @@ graph::NodeSpec detect_primitives_node() {
   s.inputs = {{"cloud", "Cloud", "organized XYZ cloud"},
               {"normals", "NormalMap", "per-pixel normals"},
               {"roi", "Mask", "only these pixels (e.g. above the table)", false},
-              {"frame", "Frame", "the unfiltered frame: the segments' colour; cylinders and spheres measured on its depth", false}};
+              {"frame", "Frame", "the frame of the cloud: the segments' colour, its camera's focal length", false},
+              {"unfiltered", "Cloud", "the cloud before depth filtering: cylinders and spheres are measured on it", false}};
   s.outputs = {{"segments", "Segments", "the primitives with parameters and inlier pixels"}};
   s.options = options_of<features::DetectOptions>();
   s.make = [](const graph::Options& o) {
@@ -38,8 +40,9 @@ graph::NodeSpec detect_primitives_node() {
       if (ctx.has_input("frame")) {
         const Frame& frame = ctx.input<Frame>("frame");
         color = &frame.color;
-        q.unfiltered = extension::back_project(frame);
+        q.focal_px = frame.intrinsics.fx;  // the camera's, not one fitted to the cloud
       }
+      if (ctx.has_input("unfiltered")) q.unfiltered = ctx.input<Cloud>("unfiltered");
       ctx.output("segments", features::detect_primitives(ctx.input<Cloud>("cloud"), ctx.input<NormalMap>("normals"), q, color));
     });
   };

@@ -1,13 +1,14 @@
-// match_models: the object layer: concepts of the knowledge base matched to the frame's
-// segments (matching::recognize), the lattice of hypotheses with mutual-exclusion arcs.
+// match_models: the object layer: the concepts of the graph's models (the models node) matched
+// to the frame's segments (matching::recognize), the lattice of hypotheses with mutual-exclusion
+// arcs.
 //
 //   nodes:
-//     - {name: objects, kind: match_models, options: {models: "mug,jar,can", best: 5}}
+//     - {name: objects, kind: match_models, options: {best: 5}}
 //   edges:
 //     - primitives.segments -> objects.segments
+//     - models.models -> objects.models
 //     - source.frame -> objects.frame      # optional: its pose gives "up"
 //     - table.plane -> objects.plane       # optional: the table's normal is "up"
-#include "mereo/core/error.hpp"
 #include "mereo/core/frame.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/knowledge/model_file.hpp"
@@ -23,16 +24,14 @@ graph::NodeSpec match_models_node() {
   s.kind = "match_models";
   s.doc = "Object hypotheses: concepts matched to the segments by branch and bound, with exclusion arcs.";
   s.inputs = {{"segments", "Segments", "the frame's segments (camera frame)"},
+              {"models", "ModelSet", "the knowledge base and the concepts to look for (the models node)"},
               {"frame", "Frame", "the frame; with a pose, 'up' comes from it (else the camera's -y)", false},
               {"plane", "SupportPlane", "the support plane; its normal is 'up' (before the frame's pose)", false}};
   s.outputs = {{"lattice", "Lattice", "hypotheses (best first per concept) and exclusion arcs"}};
   s.options = options_of<MatchModelsNodeOptions>();
   s.make = [](const graph::Options& o) {
     const auto opts = options_from<MatchModelsNodeOptions>(o);
-    // the models are read and checked when the graph is built, not per frame
-    auto kb = std::make_shared<const knowledge::KnowledgeBase>(knowledge::models_from(opts.file));
-    for (const auto& n : opts.models) kb->resolve(n);  // throws InputError naming the unknown concept and the known ones
-    return graph::NodeBody([kb, names = opts.models, mo = opts.match](graph::NodeContext& ctx) {
+    return graph::NodeBody([mo = opts.match](graph::NodeContext& ctx) {
       matching::MatchOptions m = mo;
       if (ctx.has_input("frame")) {
         const Frame& f = ctx.input<Frame>("frame");
@@ -42,7 +41,8 @@ graph::NodeSpec match_models_node() {
         const auto& p = ctx.input<extension::SupportPlane>("plane");
         if (p.inlier_count > 0) m.context.up = p.normal;
       }
-      ctx.output("lattice", matching::recognize(*kb, names, ctx.input<std::vector<Segment>>("segments"), m));
+      const auto& models = ctx.input<knowledge::ModelSet>("models");
+      ctx.output("lattice", matching::recognize(models.kb, models.concepts, ctx.input<std::vector<Segment>>("segments"), m));
     });
   };
   return s;

@@ -8,7 +8,8 @@
 #include "mereo/core/frame.hpp"
 #include "mereo/core/segment.hpp"
 #include "mereo/extension/support_plane.hpp"
-#include "mereo/matching/match.hpp"
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/matching/interpret.hpp"
 #include "nodes/registry.hpp"
 
 namespace mereo::nodes {
@@ -52,6 +53,16 @@ void register_port_types() {
     s << l.hypotheses.size() << " hypotheses, " << l.excludes.size() << " exclusions";
     if (!l.hypotheses.empty()) s << ", best " << l.hypotheses.front().concept_name << " " << l.hypotheses.front().score;
     return s.str();
+  });
+  register_type<knowledge::ModelSet>("ModelSet", [](const knowledge::ModelSet& m) {
+    std::string names;
+    for (const auto& c : m.concepts) names += (names.empty() ? "" : ", ") + c;
+    return std::to_string(m.kb.names().size()) + " concepts, looking for " + (names.empty() ? "none" : names);
+  });
+  register_type<std::vector<matching::RecognizedObject>>("Interpretation", [](const std::vector<matching::RecognizedObject>& v) {
+    std::size_t accepted = 0;
+    for (const auto& o : v) accepted += o.accepted;
+    return std::to_string(accepted) + " accepted objects, " + std::to_string(v.size() - accepted) + " alternatives";
   });
   register_type<std::vector<cognitive::Track>>("Tracks", [](const std::vector<cognitive::Track>& t) {
     std::size_t reported = 0;

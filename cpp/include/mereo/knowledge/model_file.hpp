@@ -21,10 +21,18 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "mereo/knowledge/model.hpp"
 
 namespace mereo::knowledge {
+
+/// A knowledge base and the concepts looked for in it: what a graph's `models` node loads once
+/// and gives the nodes that match and judge hypotheses.
+struct ModelSet {
+  KnowledgeBase kb;
+  std::vector<std::string> concepts;  ///< in the order given; each one resolves in kb
+};
 
 /// The shipped models (graphs/models/*.yaml, compiled in): mug, cup, jar, can, bottle, plate,
 /// bowl and their parent `container`.

@@ -10,7 +10,7 @@
 namespace mereo::nodes {
 
 /// Registers the port types (Frame, Cloud, NormalMap, Depth, Color, Labels, Mask,
-/// SupportPlane, Lattice, Tracks, Segments) and the node kinds of cpp/src/nodes/ from their
+/// SupportPlane, Lattice, ModelSet, Interpretation, Tracks, Segments) and the node kinds of cpp/src/nodes/ from their
 /// explicit lists. Idempotent and thread-safe.
 void register_builtin();
 

@@ -1,0 +1,37 @@
+// interpret: the judgement step (matching::interpret): the lattice of hypotheses to the objects
+// the frame is taken to hold, accepted ones first, then the alternatives they exclude; read by
+// the report and the tracker.
+//
+//   nodes:
+//     - {name: interpretation, kind: interpret, options: {min_score: 0.5}}
+//   edges:
+//     - objects.lattice -> interpretation.lattice
+//     - models.models -> interpretation.models
+//     - interpretation.objects -> result.objects
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/matching/interpret.hpp"
+#include "nodes/options.hpp"
+#include "nodes/registry.hpp"
+
+namespace mereo::nodes {
+
+graph::NodeSpec interpret_node() {
+  graph::NodeSpec s;
+  s.kind = "interpret";
+  s.doc = "The frame's interpretation: hypotheses accepted one per set of segments (most explaining first), "
+          "then the alternatives they exclude.";
+  s.inputs = {{"lattice", "Lattice", "the hypotheses of match_models"},
+              {"models", "ModelSet", "the models they were matched from (the models node)"}};
+  s.outputs = {{"objects", "Interpretation", "the accepted objects, then the listed alternatives"}};
+  s.options = options_of<matching::InterpretOptions>();
+  s.make = [](const graph::Options& o) {
+    const auto io = options_from<matching::InterpretOptions>(o);
+    return graph::NodeBody([io](graph::NodeContext& ctx) {
+      ctx.output("objects", matching::interpret(ctx.input<knowledge::ModelSet>("models").kb,
+                                                ctx.input<matching::Lattice>("lattice"), io));
+    });
+  };
+  return s;
+}
+
+}  // namespace mereo::nodes

@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'match_models', 'odometry', 'track_objects', 'report']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -21,7 +21,8 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         cloud (Cloud): organized XYZ cloud
         normals (NormalMap): per-pixel normals
         roi (Mask, optional): only these pixels (e.g. above the table)
-        frame (Frame, optional): the unfiltered frame: the segments' colour; cylinders and spheres measured on its depth
+        frame (Frame, optional): the frame of the cloud: the segments' colour, its camera's focal length
+        unfiltered (Cloud, optional): the cloud before depth filtering: cylinders and spheres are measured on it
     Outputs:
         segments (Segments): the primitives with parameters and inlier pixels
     Options:
@@ -75,21 +76,44 @@ def frame_source(**kwargs) -> mereo._mereo.NodeTemplate:
     Outputs:
         frame (Frame): the RGB-D frame
     """
+def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    The frame's interpretation: hypotheses accepted one per set of segments (most explaining first), then the alternatives they exclude.
+    
+    Inputs:
+        lattice (Lattice): the hypotheses of match_models
+        models (ModelSet): the models they were matched from (the models node)
+    Outputs:
+        objects (Interpretation): the accepted objects, then the listed alternatives
+    Options:
+        min_score (float, default 0.5, 0..1): hypotheses below this score are not accepted
+        min_posterior (float, default 0.5, 0..1): nor below this posterior
+        list_score (float, default 0.3, 0..1): alternatives at or above this are listed
+    """
 def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     Object hypotheses: concepts matched to the segments by branch and bound, with exclusion arcs.
     
     Inputs:
         segments (Segments): the frame's segments (camera frame)
+        models (ModelSet): the knowledge base and the concepts to look for (the models node)
         frame (Frame, optional): the frame; with a pose, 'up' comes from it (else the camera's -y)
         plane (SupportPlane, optional): the support plane; its normal is 'up' (before the frame's pose)
     Outputs:
         lattice (Lattice): hypotheses (best first per concept) and exclusion arcs
     Options:
-        models (str, default mug,cup,jar,can,bottle,plate,bowl): comma-separated concepts to look for
-        file (str, default ): a YAML model file (empty: the shipped models)
         best (int, default 10, 1..1000): hypotheses kept per concept
         min_score (float, default 0.05, 0..1): hypotheses below this score are dropped
+    """
+def models(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    The object models (a knowledge base) and the concepts looked for; loaded once per run.
+    
+    Outputs:
+        models (ModelSet): the knowledge base and the concepts looked for
+    Options:
+        models (str, default mug,cup,jar,can,bottle,plate,bowl): comma-separated concepts to look for
+        file (str, default ): a YAML model file (empty: the shipped models)
     """
 def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
     """
@@ -109,21 +133,17 @@ def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
     """
 def report(**kwargs) -> mereo._mereo.NodeTemplate:
     """
-    The accepted objects (one per set of segments, most explaining first) and the frame's JSON result.
+    The frame's JSON result: its accepted objects and their alternatives (or its tracked objects), segments and support plane.
     
     Inputs:
         frame (Frame): the frame (its id and source)
         segments (Segments): the frame's segments
-        lattice (Lattice): the hypotheses of match_models
+        objects (Interpretation): the frame's interpretation (interpret)
         plane (SupportPlane, optional): the support plane, reported when given
         tracks (Tracks, optional): tracked objects (track_objects): reported instead of the frame's own
     Outputs:
         result (Text): the frame's result, one JSON object
     Options:
-        file (str, default ): the model file of match_models (empty: the shipped models)
-        min_score (float, default 0.5, 0..1): hypotheses below this score are not accepted
-        min_posterior (float, default 0.5, 0..1): nor below this posterior
-        list_score (float, default 0.3, 0..1): alternatives at or above this are listed
         track_probability (float, default 0.5, 0..1): with tracks: those at or above this are reported
     """
 def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
@@ -152,11 +172,10 @@ def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
     Inputs:
         frame (Frame): the frame; its pose (camera to world) places the hypotheses
         segments (Segments): the frame's segments
-        lattice (Lattice): the frame's hypotheses (match_models)
+        objects (Interpretation): the frame's hypotheses, accepted or not (interpret)
     Outputs:
         tracks (Tracks): the live tracks, by id
     Options:
-        file (str, default ): the model file of match_models (empty: the shipped models)
         max_distance (float, default 0.03, 0.001..1): association: body centres, metres
         part_tolerance (float, default 0.01, 0.001..1): a part stays put relative to its body
         visible_pixels (float, default 300, 1..1e+06): a missing part this large in the image (pixels, where the frame's depth shows its place) is a full contradiction

@@ -133,6 +133,24 @@ def test_cli_bad_input_is_one_clear_line(tmp_path, capsys):
     assert "r.jsonl:2" in capsys.readouterr().err
 
 
+def test_a_model_file_of_ones_own(tmp_path):
+    """--models FILE: the file's concepts (beside the shipped ones) are looked for, on single frames
+    and on a tracked sequence alike: the graph's one models node loads the file for the matcher
+    and the judgement that the report and the tracker read."""
+    mine = tmp_path / "mine.yaml"
+    mine.write_text("concepts:\n  - name: my_mug\n    parent: mug\n    attributes:\n"
+                    "      - {part: body, attribute: radius, range: [0.035, 0.05], margin: 0.005}\n")
+    g = mereo.tabletop_graph(models_file=str(mine), models=["my_mug"])
+    assert 'file: "' + str(mine) in g.to_yaml() and g.to_yaml().count("my_mug") == 1
+    out = tmp_path / "r.jsonl"
+    assert cli.main(["recognize", "synthetic:903", "--models", str(mine), "--out", str(out)]) == 0
+    (single,) = [json.loads(s) for s in out.read_text().splitlines()]
+    assert len(accepted(single, "my_mug")) == 3 and {o["model"] for o in single["objects"]} == {"my_mug"}
+    assert cli.main(["recognize", "synthetic:703", "--frames", "3", "--models", str(mine), "--out", str(out)]) == 0
+    tracked = [json.loads(s) for s in out.read_text().splitlines()]
+    assert [o["model"] for o in tracked[-1]["objects"]] and {o["model"] for r in tracked for o in r["objects"]} == {"my_mug"}
+
+
 def test_evaluate_against_a_perfect_and_a_wrong_answer():
     """The evaluation itself, on answers made from the ground truth (independent of detection)."""
     truths = ev.load_truths(["synthetic:903", "synthetic:905"])

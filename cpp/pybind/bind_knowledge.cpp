@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "converters.hpp"
+#include "mereo/core/error.hpp"
 #include "mereo/core/segment.hpp"
 #include "mereo/knowledge/bayes.hpp"
 #include "mereo/knowledge/model_file.hpp"
@@ -22,28 +23,69 @@ namespace pu = mereo::py_util;
 
 void bind_knowledge(py::module_& m) {
   using mereo::Segment;
+  // A field of the class (mereo/shapes/*.hpp) from Python: a number, a flag or a 3-vector.
+  auto field_value = [](const std::string& name, const py::handle& v) -> mereo::shapes::FieldValue {
+    if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
+    if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) return v.cast<double>();
+    try {
+      return v.cast<Eigen::Vector3d>();
+    } catch (const py::cast_error&) {
+      throw mereo::InputError("Segment field '" + name + "': expected a number or three numbers");
+    }
+  };
+  auto make = [field_value](const std::string& cls, const py::dict& fields) {
+    Segment s(mereo::primitive_class(cls).make());
+    for (const auto& [key, value] : fields) {
+      const auto name = key.cast<std::string>();
+      if (name == "class" || name == "inliers" || name == "residual" || name == "hue" || name == "segment") continue;
+      if (name == "inward") {
+        s.inward = value.cast<bool>();
+        continue;
+      }
+      if (!s.set_field(name, field_value(name, value))) {
+        std::string known;
+        for (const auto& [n, v] : s.fields()) known += (known.empty() ? "" : ", ") + std::string(n);
+        throw mereo::InputError("a " + cls + " has no field '" + name + "' (its fields: " + known + ")");
+      }
+    }
+    return s;
+  };
+  auto to_python = [](const mereo::shapes::FieldValue& v) {
+    return std::visit([](const auto& x) { return py::cast(x); }, v);
+  };
   py::class_<Segment>(m, "Segment",
-                      "A primitive found in the data (a data instance): class, parameters (metres, camera "
-                      "frame), inliers, residual, colour.")
-      .def(py::init([](const std::string& cls, Eigen::Vector3d point, Eigen::Vector3d axis, double radius,
-                       double height, double minor_radius, double d) {
-             Segment s;
-             s.cls = mereo::primitive_class(cls);
-             s.point = point, s.axis = axis.normalized(), s.radius = radius, s.height = height;
-             s.minor_radius = minor_radius, s.d = d;
-             return s;
-           }),
-           py::arg("cls"), py::arg("point") = Eigen::Vector3d::Zero(), py::arg("axis") = Eigen::Vector3d::UnitZ(),
-           py::arg("radius") = 0.0, py::arg("height") = 0.0, py::arg("minor_radius") = 0.0, py::arg("d") = 0.0)
-      .def_property("cls", [](const Segment& s) { return std::string(mereo::to_string(s.cls)); },
-                    [](Segment& s, const std::string& c) { s.cls = mereo::primitive_class(c); })
+                      "A primitive found in the data (a data instance): its class (one of the shape table's, "
+                      "mereo/shapes/) with that class's parameters (metres, camera frame, the JSON output's "
+                      "field names: a cylinder's point, axis, radius, height; a torus's center, normal, "
+                      "major_radius, minor_radius...), inliers, residual, colour. Segment('cylinder', "
+                      "point=..., axis=..., radius=..., height=...); a torus also takes point/axis/radius.")
+      .def(py::init([make](const std::string& cls, const py::kwargs& fields) { return make(cls, fields); }),
+           py::arg("cls"))
+      .def_static("from_dict", [make](const py::dict& d) { return make(d["class"].cast<std::string>(), d); },
+                  py::arg("d"), "A segment from a part or primitive of a result (its \"class\" and fields).")
+      .def_property_readonly("cls", [](const Segment& s) { return std::string(s.class_name()); })
+      .def_property_readonly("params",
+                             [to_python](const Segment& s) {
+                               py::dict d;
+                               for (const auto& [name, v] : s.fields()) d[name] = to_python(v);
+                               return d;
+                             },
+                             "the class's parameters, by their JSON names")
+      .def("__getattr__",
+           [to_python](const Segment& s, const std::string& name) -> py::object {
+             for (const auto& [n, v] : s.fields())
+               if (name == n) return to_python(v);
+             if (auto v = s.attribute(name)) return py::cast(*v);  // aliases: a torus's radius...
+             if (name == "point") return py::cast(s.origin());
+             if (name == "axis")
+               if (auto d = s.direction()) return py::cast(*d);
+             throw py::attribute_error("a " + std::string(s.class_name()) + " segment has no '" + name + "'");
+           })
+      .def("set", [field_value](Segment& s, const std::string& name, const py::handle& v) {
+             if (!s.set_field(name, field_value(name, v)))
+               throw mereo::InputError("a " + std::string(s.class_name()) + " has no field '" + name + "'");
+           }, py::arg("name"), py::arg("value"), "Sets one of the class's parameters by its JSON name.")
       .def_readwrite("id", &Segment::id)
-      .def_readwrite("point", &Segment::point)
-      .def_readwrite("axis", &Segment::axis)
-      .def_readwrite("d", &Segment::d)
-      .def_readwrite("radius", &Segment::radius)
-      .def_readwrite("minor_radius", &Segment::minor_radius)
-      .def_readwrite("height", &Segment::height)
       .def_readwrite("inliers", &Segment::inliers)
       .def_readwrite("residual", &Segment::residual)
       .def_readwrite("hue", &Segment::hue)
@@ -57,8 +99,12 @@ void bind_knowledge(py::module_& m) {
                              "inlier pixel indices v * width + u (NumPy int32)")
       .def_property_readonly("mean_color", [](const Segment& s) { return Eigen::Vector3f(s.mean_color); })
       .def("__repr__", [](const Segment& s) {
-        return "<mereo.Segment " + std::string(mereo::to_string(s.cls)) + " r=" + std::to_string(s.radius) + ">";
+        std::string text = "<mereo.Segment " + std::string(s.class_name());
+        for (const auto& [name, v] : s.fields())
+          if (const auto* x = std::get_if<double>(&v)) text += " " + std::string(name) + "=" + std::to_string(*x);
+        return text + ">";
       });
+  m.def("primitive_classes", &mereo::primitive_class_names, "The shape table's classes, in its order.");
 
   py::class_<kn::Membership>(m, "Membership", "A trapezoidal fuzzy membership (a, b, c, d).")
       .def(py::init([](double a, double b, double c, double d) { return kn::Membership{a, b, c, d}; }))

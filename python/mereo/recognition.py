@@ -121,17 +121,7 @@ def recognize(frame, models: Sequence[str] | str | None = None, *, goal: str | N
 
 def segment_from_dict(d: dict) -> Segment:
     """A Segment from a part or primitive of a result (for drawing or for the matcher)."""
-    c = d["class"]
-    if c == "plane":
-        s = Segment(c, point=d.get("point", [0, 0, 0]), axis=d["normal"], d=d["d"])
-    elif c == "cylinder":
-        s = Segment(c, point=d["point"], axis=d["axis"], radius=d["radius"], height=d["height"])
-    elif c == "torus":
-        s = Segment(c, point=d["center"], axis=d["normal"], radius=d["major_radius"], minor_radius=d["minor_radius"])
-    elif c == "sphere":
-        s = Segment(c, point=d["center"], radius=d["radius"])
-    else:
-        s = Segment(c, point=d.get("point", [0, 0, 0]), axis=d.get("axis", [0, 0, 1]))
+    s = Segment.from_dict(d)
     s.inliers = d.get("inliers", 0)
     return s
 

@@ -69,8 +69,9 @@ concepts:
 )";
 
 Segment make(PrimitiveClass cls, Eigen::Vector3d p, Eigen::Vector3d axis, double r, double h, double minor = 0) {
-  Segment s;
-  s.cls = cls, s.point = p, s.axis = axis.normalized(), s.radius = r, s.height = h, s.minor_radius = minor;
+  Segment s(cls.make());  // each class takes the fields it has (set_field's common names)
+  s.set_field("point", p), s.set_field("axis", Eigen::Vector3d(axis.normalized())), s.set_field("radius", r);
+  s.set_field("height", h), s.set_field("minor_radius", minor);
   return s;
 }
 
@@ -100,13 +101,13 @@ std::vector<Segment> adversarial(int n, std::uint64_t seed) {
   while (int(out.size()) < n) {
     const Eigen::Vector3d c(0.4 * U(rng), 0.4 * U(rng), 0.05 + 0.01 * U(rng));
     const double r = 0.042 + 0.003 * U(rng);
-    out.push_back(make(PrimitiveClass::Cylinder, c, up + 0.02 * Eigen::Vector3d(U(rng), U(rng), 0), r, 0.1));
+    out.push_back(make(PrimitiveClass::of<shapes::Cylinder>(), c, up + 0.02 * Eigen::Vector3d(U(rng), U(rng), 0), r, 0.1));
     const double a = 0.025 + 0.002 * U(rng);
     const Eigen::Vector3d dir = Eigen::Vector3d(U(rng), U(rng), 0).normalized();
-    out.push_back(make(PrimitiveClass::Torus, c + dir * (r + 0.6 * a), dir.cross(up), a, 0, 0.006));
+    out.push_back(make(PrimitiveClass::of<shapes::Torus>(), c + dir * (r + 0.6 * a), dir.cross(up), a, 0, 0.006));
     if (int(out.size()) + 2 <= n) {  // a stool top and a leg near it
-      out.push_back(make(PrimitiveClass::Cylinder, c + Eigen::Vector3d(0, 0, 0.3), up, 0.16 + 0.01 * U(rng), 0.03));
-      out.push_back(make(PrimitiveClass::Cylinder, c + Eigen::Vector3d(0.15 * U(rng), 0.15 * U(rng), 0), up,
+      out.push_back(make(PrimitiveClass::of<shapes::Cylinder>(), c + Eigen::Vector3d(0, 0, 0.3), up, 0.16 + 0.01 * U(rng), 0.03));
+      out.push_back(make(PrimitiveClass::of<shapes::Cylinder>(), c + Eigen::Vector3d(0.15 * U(rng), 0.15 * U(rng), 0), up,
                          0.02 + 0.002 * U(rng), 0.4));
     }
   }
@@ -121,7 +122,7 @@ double count_exhaustive(const Concept& c, const std::vector<Segment>& segs, doub
   std::vector<std::vector<int>> domain(P);
   for (std::size_t i = 0; i < P; ++i)
     for (std::size_t j = 0; j < segs.size(); ++j)
-      if (to_string(segs[j].cls) == c.parts[i].cls) domain[i].push_back(int(j));
+      if (segs[j].class_name() == c.parts[i].cls) domain[i].push_back(int(j));
   std::vector<int> a(P, -2);
   std::vector<char> used(segs.size(), 0);
   double nodes = 0;
@@ -164,7 +165,7 @@ std::pair<long, double> toulbar2(const Concept& c, const std::vector<Segment>& s
   std::vector<std::vector<int>> dom(P);
   for (std::size_t i = 0; i < P; ++i) {
     for (std::size_t j = 0; j < segs.size(); ++j)
-      if (to_string(segs[j].cls) == c.parts[i].cls) dom[i].push_back(int(j));
+      if (segs[j].class_name() == c.parts[i].cls) dom[i].push_back(int(j));
     if (c.parts[i].optional) dom[i].push_back(-1);
     if (dom[i].empty()) return {-1, 0.0};
   }

@@ -91,9 +91,9 @@ Input prepare(std::string name, Cloud cloud, ColorImage color) {
 std::vector<Segment> to_segments(const std::vector<bench::AnchorShape>& shapes, const std::vector<int>& index) {
   std::vector<Segment> out;
   for (const auto& a : shapes) {
-    Segment s;
-    s.cls = primitive_class(a.cls);
-    s.point = a.point, s.axis = a.axis.normalized(), s.radius = a.radius, s.minor_radius = a.minor_radius;
+    Segment s(primitive_class(a.cls).make());  // each class takes the fields it has
+    s.set_field("point", a.point), s.set_field("axis", Eigen::Vector3d(a.axis.normalized()));
+    s.set_field("radius", a.radius), s.set_field("minor_radius", a.minor_radius);
     for (int k : a.indices) s.pixels.push_back(index[k]);
     s.inliers = s.pixels.size();
     out.push_back(std::move(s));
@@ -201,7 +201,7 @@ int main(int argc, char** argv) {
         for (const auto& o : objects) {
           bool hit = false;
           for (const Segment& s : found) {
-            if (s.cls != PrimitiveClass::Cylinder || s.pixels.empty()) continue;
+            if (!s.is<shapes::Cylinder>() || s.pixels.empty()) continue;
             int mine = 0;
             for (int i : s.pixels) mine += in.labels.data()[i] >= 20 && in.labels.data()[i] / 10 == o.object;
             hit = hit || mine >= 0.8 * s.pixels.size();
@@ -216,9 +216,9 @@ int main(int argc, char** argv) {
         // the cylinder of the right size closest to the reference's radius
         double best = NAN;
         for (const Segment& s : found)
-          if (s.cls == PrimitiveClass::Cylinder && std::abs(s.radius - mug_reference) < 0.02 &&
-              !(std::abs(s.radius - mug_reference) >= best))
-            best = std::abs(s.radius - mug_reference);
+          if (s.is<shapes::Cylinder>() && std::abs(s.size() - mug_reference) < 0.02 &&
+              !(std::abs(s.size() - mug_reference) >= best))
+            best = std::abs(s.size() - mug_reference);
         m.mug_radius_err_mm = 1000 * best;
       }
     }

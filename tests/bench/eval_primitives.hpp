@@ -80,12 +80,12 @@ inline void score_synthetic(const synthetic::GroundTruth& gt, const std::vector<
     for (const auto& p : o.parts) part_of[p.label] = &p, object_of[p.label] = &o;
   std::map<std::uint32_t, const Segment*> best_cyl, best_torus;
   for (const Segment& s : found) {
-    if (s.cls != PrimitiveClass::Cylinder && s.cls != PrimitiveClass::Torus) continue;
+    if (!s.is<shapes::Cylinder>() && !s.is<shapes::Torus>()) continue;
     const auto [label, purity] = majority_label(s, gt.parts);
     const auto it = part_of.find(label);
     const synthetic::PartTruth* p = it == part_of.end() ? nullptr : it->second;
-    if (s.cls == PrimitiveClass::Cylinder) {
-      const bool ok = p && purity >= 0.5 && p->camera.cls == "cylinder" && std::abs(s.radius - p->camera.radius) <= 0.01;
+    if (s.is<shapes::Cylinder>()) {
+      const bool ok = p && purity >= 0.5 && p->camera.cls == "cylinder" && std::abs(s.size() - p->camera.radius) <= 0.01;
       if (!ok) {
         ++acc.false_cylinders;
         continue;
@@ -112,9 +112,10 @@ inline void score_synthetic(const synthetic::GroundTruth& gt, const std::vector<
           continue;
         }
         ++acc.bodies_found;
-        acc.radius_err_mm.push_back(1000 * std::abs(it->second->radius - p.camera.radius));
-        acc.radius_bias.emplace_back(p.camera.point.norm(), 1000 * (it->second->radius - p.camera.radius));
-        acc.axis_err_deg.push_back(axis_angle_deg(it->second->axis, p.camera.axis));
+        const auto& c = it->second->as<shapes::Cylinder>();
+        acc.radius_err_mm.push_back(1000 * std::abs(c.radius - p.camera.radius));
+        acc.radius_bias.emplace_back(p.camera.point.norm(), 1000 * (c.radius - p.camera.radius));
+        acc.axis_err_deg.push_back(axis_angle_deg(c.axis, p.camera.axis));
       }
       if (o.model == "mug" && p.role == "handle" && p.visible_pixels >= min_handle_pixels &&
           p.camera.point.norm() <= 1.2) {
@@ -125,7 +126,7 @@ inline void score_synthetic(const synthetic::GroundTruth& gt, const std::vector<
           continue;
         }
         ++acc.handles_found;
-        acc.handle_minor_err_mm.push_back(1000 * std::abs(it->second->minor_radius - p.camera.minor_radius));
+        acc.handle_minor_err_mm.push_back(1000 * std::abs(it->second->as<shapes::Torus>().minor_radius - p.camera.minor_radius));
       }
     }
 }

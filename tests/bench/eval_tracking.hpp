@@ -47,7 +47,7 @@ inline std::uint32_t true_object(const Segment& body_world, const synthetic::Gro
     if (o.model != model) continue;
     const auto* b = o.part("body");
     if (!b) continue;
-    const Eigen::Vector3d a = b->world.axis.normalized(), q = body_world.point - b->world.point;
+    const Eigen::Vector3d a = b->world.axis.normalized(), q = body_world.origin() - b->world.point;
     if ((q - a * a.dot(q)).norm() <= 0.03) return o.id;
   }
   return 0;
@@ -116,8 +116,8 @@ inline void score_sequence(const std::vector<synthetic::SyntheticFrame>& seq,
       const int n = ++views[o.id];
       const auto& body_part = it->second->parts.front();
       if (body_part.segment >= 0)  // seen in this frame: its own measurement
-        acc.single_view_radius_mm.push_back(1000 * std::abs(body_part.observed.radius - b->world.radius));
-      if (n >= 10) acc.fused_radius_mm.push_back(1000 * std::abs(body_part.world.radius - b->world.radius));
+        acc.single_view_radius_mm.push_back(1000 * std::abs(body_part.observed.size() - b->world.radius));
+      if (n >= 10) acc.fused_radius_mm.push_back(1000 * std::abs(body_part.world.size() - b->world.radius));
       if (last_id.count(o.id) && last_id[o.id] != it->second->id) ++acc.id_switches;
       last_id[o.id] = it->second->id;
     }

@@ -30,12 +30,12 @@ Observation mug_seen(const Pose& pose, const Eigen::Vector3d& centre, std::mt199
   std::normal_distribution<double> n(0.0, noise);
   const Pose to_camera = pose.inverse();
   Segment body;
-  body.cls = PrimitiveClass::Cylinder;
-  body.point = centre, body.axis = Eigen::Vector3d::UnitZ(), body.radius = 0.04 + n(rng), body.height = 0.1;
+  body.shape = shapes::Cylinder{};
+  body.as<shapes::Cylinder>().point = centre, body.as<shapes::Cylinder>().axis = Eigen::Vector3d::UnitZ(), body.as<shapes::Cylinder>().radius = 0.04 + n(rng), body.as<shapes::Cylinder>().height = 0.1;
   Segment handle;
-  handle.cls = PrimitiveClass::Torus;
-  handle.point = centre + Eigen::Vector3d(0.055, 0, 0) + handle_shift + Eigen::Vector3d(n(rng), n(rng), n(rng));
-  handle.axis = Eigen::Vector3d::UnitY(), handle.radius = 0.025, handle.minor_radius = 0.006;
+  handle.shape = shapes::Torus{};
+  handle.as<shapes::Torus>().center = centre + Eigen::Vector3d(0.055, 0, 0) + handle_shift + Eigen::Vector3d(n(rng), n(rng), n(rng));
+  handle.as<shapes::Torus>().normal = Eigen::Vector3d::UnitY(), handle.as<shapes::Torus>().major_radius = 0.025, handle.as<shapes::Torus>().minor_radius = 0.006;
   Observation o;
   o.model = model, o.score = 0.95, o.accepted = true;
   o.parts = {{"body", cognitive::transformed(body, to_camera)}};
@@ -57,7 +57,7 @@ TEST(Tracking, ConsistentPartsKeepOneIdAndTheFilterBeatsOneView) {
   int id = -1;
   for (int k = 0; k < 30; ++k) {
     const auto obs = mug_seen(orbit(k), centre, rng, 0.002);
-    single.push_back(std::abs(obs.parts[0].second.radius - 0.04));
+    single.push_back(std::abs(obs.parts[0].second.size() - 0.04));
     const auto& tracks = tracker.update({obs}, orbit(k));
     ASSERT_EQ(tracks.size(), 1u);
     if (id < 0) id = tracks[0].id;
@@ -65,10 +65,10 @@ TEST(Tracking, ConsistentPartsKeepOneIdAndTheFilterBeatsOneView) {
     // one view does not make a report; the second that agrees does
     if (k == 0) EXPECT_LT(tracks[0].probability(), 0.5);
     else EXPECT_GE(tracks[0].probability(), 0.5);
-    if (k >= 10) fused.push_back(std::abs(tracks[0].parts[0].world.radius - 0.04));
+    if (k >= 10) fused.push_back(std::abs(tracks[0].parts[0].world.size() - 0.04));
   }
   EXPECT_LT(bench::median(fused), 0.5 * bench::median(single));
-  EXPECT_LT((tracker.tracks()[0].parts[0].world.point - centre).head<2>().norm(), 0.002);
+  EXPECT_LT((tracker.tracks()[0].parts[0].world.origin() - centre).head<2>().norm(), 0.002);
 }
 
 namespace {
@@ -133,12 +133,12 @@ DepthImage flat_depth(float value) {
 TEST(Tracking, PartVisibilityReadsTheDepthWhereThePartIsHeld) {
   // a handle facing the camera 1 m away (ring in the image plane), its body to the left
   Segment body;
-  body.cls = PrimitiveClass::Cylinder;
-  body.point = Eigen::Vector3d(-0.055, 0, 1.0), body.axis = Eigen::Vector3d::UnitY(), body.radius = 0.04;
+  body.shape = shapes::Cylinder{};
+  body.as<shapes::Cylinder>().point = Eigen::Vector3d(-0.055, 0, 1.0), body.as<shapes::Cylinder>().axis = Eigen::Vector3d::UnitY(), body.as<shapes::Cylinder>().radius = 0.04;
   Segment handle;
-  handle.cls = PrimitiveClass::Torus;
-  handle.point = Eigen::Vector3d(0, 0, 1.0), handle.axis = Eigen::Vector3d::UnitZ(), handle.radius = 0.025;
-  handle.minor_radius = 0.006;
+  handle.shape = shapes::Torus{};
+  handle.as<shapes::Torus>().center = Eigen::Vector3d(0, 0, 1.0), handle.as<shapes::Torus>().normal = Eigen::Vector3d::UnitZ(), handle.as<shapes::Torus>().major_radius = 0.025;
+  handle.as<shapes::Torus>().minor_radius = 0.006;
   const Intrinsics K;
   // 36 points on the ring; those within the body's wall or within the tolerance (1 cm) and the
   // tube radius of it (x < -0.055 + 0.04 + 0.006 + 0.01) are not looked at
@@ -165,8 +165,8 @@ TEST(Tracking, PartVisibilityReadsTheDepthWhereThePartIsHeld) {
   const auto pts = cognitive::points_around(handle, body, d, K, 0.005, 10000);
   ASSERT_FALSE(pts.empty());
   for (const auto& p : pts) {
-    EXPECT_LE((p - handle.point).norm(), 0.025 + 0.006 + 0.005 + 1e-9);
-    EXPECT_GE(std::hypot(p.x() - body.point.x(), p.z() - body.point.z()), 0.045 - 1e-9);
+    EXPECT_LE((p - handle.as<shapes::Torus>().center).norm(), 0.025 + 0.006 + 0.005 + 1e-9);
+    EXPECT_GE(std::hypot(p.x() - body.as<shapes::Cylinder>().point.x(), p.z() - body.as<shapes::Cylinder>().point.z()), 0.045 - 1e-9);
   }
 }
 
@@ -205,8 +205,8 @@ TEST(Tracking, APartKeepsItsPlaceWhenTheBodyIsPartlyHidden) {
     auto obs = mug_seen(orbit(k), centre, rng, 0.0005);
     if (k % 2) {
       const Pose to_camera = orbit(k).inverse();
-      obs.parts[0].second.point += to_camera.linear() * Eigen::Vector3d(0, 0, 0.025);
-      obs.parts[0].second.height = 0.05;
+      obs.parts[0].second.as<shapes::Cylinder>().point += to_camera.linear() * Eigen::Vector3d(0, 0, 0.025);
+      obs.parts[0].second.as<shapes::Cylinder>().height = 0.05;
     }
     tracker.update({obs}, orbit(k));
     ASSERT_EQ(tracker.tracks().size(), 1u);
@@ -228,7 +228,7 @@ TEST(Tracking, APartFirstFittedOffIsReanchoredAndTheTrackKeepsItsId) {
   EXPECT_TRUE(reported(tracker, id));
   const auto* handle = tracker.tracks()[0].part("handle");
   ASSERT_NE(handle, nullptr);
-  EXPECT_LT((handle->world.point - (centre + Eigen::Vector3d(0.055, 0, 0))).norm(), 0.003);
+  EXPECT_LT((handle->world.origin() - (centre + Eigen::Vector3d(0.055, 0, 0))).norm(), 0.003);
 }
 
 TEST(Tracking, UnseenTracksDecayAndGo) {
@@ -323,9 +323,9 @@ std::vector<Segment> cylinders_seen(const Pose& pose, const std::vector<Eigen::V
   const Pose to_camera = pose.inverse();
   for (std::size_t i = 0; i < feet.size(); ++i) {
     Segment s;
-    s.cls = PrimitiveClass::Cylinder;
-    s.point = Eigen::Vector3d(feet[i].x(), feet[i].y(), 0.05), s.axis = Eigen::Vector3d::UnitZ();
-    s.radius = radii[i], s.height = 0.08, s.inliers = 1000;
+    s.shape = shapes::Cylinder{};
+    s.as<shapes::Cylinder>().point = Eigen::Vector3d(feet[i].x(), feet[i].y(), 0.05), s.as<shapes::Cylinder>().axis = Eigen::Vector3d::UnitZ();
+    s.as<shapes::Cylinder>().radius = radii[i], s.as<shapes::Cylinder>().height = 0.08, s.inliers = 1000;
     out.push_back(cognitive::transformed(s, to_camera));
   }
   return out;
@@ -408,10 +408,10 @@ TEST(Landmarks, ARingBesideTheOnlyCylinderBoundsTheTurn) {
     auto out = cylinders_seen(pose, {foot}, {0.04});
     if (!ring) return out;
     Segment t;
-    t.cls = PrimitiveClass::Torus;
+    t.shape = shapes::Torus{};
     // the ring's centre, off by `ring_error` across the body-to-ring direction
-    t.point = Eigen::Vector3d(foot.x() + 0.055, foot.y() + ring_error, 0.05), t.axis = Eigen::Vector3d::UnitY();
-    t.radius = 0.025, t.minor_radius = 0.006, t.inliers = 300;
+    t.as<shapes::Torus>().center = Eigen::Vector3d(foot.x() + 0.055, foot.y() + ring_error, 0.05), t.as<shapes::Torus>().normal = Eigen::Vector3d::UnitY();
+    t.as<shapes::Torus>().major_radius = 0.025, t.as<shapes::Torus>().minor_radius = 0.006, t.inliers = 300;
     out.push_back(cognitive::transformed(t, pose.inverse()));
     return out;
   };

@@ -5,7 +5,7 @@
 
 #include <random>
 
-#include "features/shapes.hpp"
+#include "features/fit.hpp"
 #include "mereo/core/error.hpp"
 #include "mereo/extension/normals.hpp"
 #include "mereo/extension/projection.hpp"
@@ -19,18 +19,20 @@ namespace fd = mereo::features::detail;
 namespace {
 
 Segment torus(Eigen::Vector3d c, Eigen::Vector3d n, double R, double r) {
-  Segment s;
-  s.cls = PrimitiveClass::Torus;
-  s.point = c, s.axis = n.normalized(), s.radius = R, s.minor_radius = r;
-  return s;
+  return Segment(shapes::Torus{c, n.normalized(), R, r});
+}
+
+Segment cylinder(Eigen::Vector3d point, Eigen::Vector3d axis, double radius, double height = 0.0) {
+  return Segment(shapes::Cylinder{point, axis.normalized(), radius, height});
 }
 
 /// A point of the torus at ring angle a and tube angle b, and its outward normal.
-std::pair<Eigen::Vector3d, Eigen::Vector3d> torus_point(const Segment& t, double a, double b) {
-  Eigen::Vector3d e1 = t.axis.unitOrthogonal(), e2 = t.axis.cross(e1);
+std::pair<Eigen::Vector3d, Eigen::Vector3d> torus_point(const Segment& s, double a, double b) {
+  const auto& t = s.as<shapes::Torus>();
+  Eigen::Vector3d e1 = t.normal.unitOrthogonal(), e2 = t.normal.cross(e1);
   const Eigen::Vector3d radial = std::cos(a) * e1 + std::sin(a) * e2;
-  const Eigen::Vector3d normal = std::cos(b) * radial + std::sin(b) * t.axis;
-  return {t.point + t.radius * radial + t.minor_radius * normal, normal};
+  const Eigen::Vector3d normal = std::cos(b) * radial + std::sin(b) * t.normal;
+  return {t.center + t.major_radius * radial + t.minor_radius * normal, normal};
 }
 
 /// What a depth sensor sees of `s` (a cylinder within half_height of s.point along its axis, or
@@ -41,20 +43,23 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> torus_point(const Segment& t, double
 std::vector<Eigen::Vector3d> sensed(const Segment& s, double half_height, double sigma_z, std::mt19937_64& rng) {
   std::normal_distribution<double> noise(0.0, sigma_z);
   std::vector<Eigen::Vector3d> out;
-  const bool cyl = s.cls == PrimitiveClass::Cylinder;
+  const auto* C = s.get_if<shapes::Cylinder>();
+  const bool cyl = C != nullptr;
+  const Eigen::Vector3d centre = s.origin(), axis = cyl ? C->axis : Eigen::Vector3d::UnitZ();
+  const double radius = s.size();
   for (int v = 0; v < 480; ++v)
     for (int u = 0; u < 640; ++u) {
       const Eigen::Vector3d d = Eigen::Vector3d((u - 319.5) / 525, (v - 239.5) / 525, 1).normalized();
-      const Eigen::Vector3d w = cyl ? Eigen::Vector3d(d - s.axis * s.axis.dot(d)) : d;
-      const Eigen::Vector3d c = cyl ? Eigen::Vector3d(s.point - s.axis * s.axis.dot(s.point)) : s.point;
-      const double A = w.squaredNorm(), B = w.dot(c), C = c.squaredNorm() - s.radius * s.radius;
+      const Eigen::Vector3d w = cyl ? Eigen::Vector3d(d - axis * axis.dot(d)) : d;
+      const Eigen::Vector3d c = cyl ? Eigen::Vector3d(centre - axis * axis.dot(centre)) : centre;
+      const double A = w.squaredNorm(), B = w.dot(c), C = c.squaredNorm() - radius * radius;
       const double disc = B * B - A * C;
       if (!(disc > 0)) continue;
       const double t = (B + (s.inward ? 1 : -1) * std::sqrt(disc)) / A;
       const Eigen::Vector3d x = t * d;
-      if (cyl && std::abs(s.axis.dot(x - s.point)) > half_height) continue;
-      Eigen::Vector3d n = x - s.point;
-      if (cyl) n -= s.axis * s.axis.dot(n);
+      if (cyl && std::abs(axis.dot(x - centre)) > half_height) continue;
+      Eigen::Vector3d n = x - centre;
+      if (cyl) n -= axis * axis.dot(n);
       if (std::abs(n.normalized().dot(d)) < std::cos(80 * M_PI / 180)) continue;
       out.push_back((t + noise(rng) / d.z()) * d);
     }
@@ -73,31 +78,42 @@ TEST(Features, MinimalSetsAreExactOnExactSamples) {
   };
   const auto [p1, n1] = on_cyl(0.3, 0.01);
   const auto [p2, n2] = on_cyl(1.4, -0.03);
-  const auto cyl = fd::cylinder_from(p1, n1, p2, n2);
+  const shapes::Limits limits;
+  auto two = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& na, const Eigen::Vector3d& b, const Eigen::Vector3d& nb) {
+    static thread_local Eigen::Vector3d P[2], N[2];
+    P[0] = a, P[1] = b, N[0] = na, N[1] = nb;
+    return std::make_pair(P, N);
+  };
+  auto [cp, cn] = two(p1, n1, p2, n2);
+  const auto cyl = shapes::Cylinder::from_sample(cp, cn, limits);
   ASSERT_TRUE(cyl);
   EXPECT_NEAR(cyl->radius, 0.04, 1e-9);
   EXPECT_NEAR(std::abs(cyl->axis.dot(axis)), 1.0, 1e-9);
-  EXPECT_NEAR(fd::signed_distance(*cyl, c + 0.04 * e1 + 0.07 * axis), 0.0, 1e-9);
+  EXPECT_NEAR(cyl->signed_distance(c + 0.04 * e1 + 0.07 * axis), 0.0, 1e-9);
   // sphere
   const Eigen::Vector3d sc(0.1, 0, 1.0), d1 = Eigen::Vector3d(0.3, -0.2, -1).normalized(),
                         d2 = Eigen::Vector3d(-0.4, 0.1, -1).normalized();
-  const auto sph = fd::sphere_from(sc + 0.08 * d1, d1, sc + 0.08 * d2, d2);
+  auto [sp, sn] = two(sc + 0.08 * d1, d1, sc + 0.08 * d2, d2);
+  const auto sph = shapes::Sphere::from_sample(sp, sn, limits);
   ASSERT_TRUE(sph);
   EXPECT_NEAR(sph->radius, 0.08, 1e-9);
-  EXPECT_NEAR((sph->point - sc).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((sph->center - sc).norm(), 0.0, 1e-9);
   // torus (a mug handle: ring 2.5 cm, tube 6 mm)
   const Segment t = torus({0.0, 0.0, 0.8}, {0.3, 0.1, 1.0}, 0.025, 0.006);
   Eigen::Vector3d P[4], N[4];
   const double ab[4][2] = {{0.1, 0.3}, {0.9, -1.0}, {1.8, 2.0}, {2.7, 0.5}};
   for (int k = 0; k < 4; ++k) std::tie(P[k], N[k]) = torus_point(t, ab[k][0], ab[k][1]);
-  const auto tor = fd::torus_from(P, N, 0.003, 0.02);
+  shapes::Limits tube;
+  tube.min_minor_radius = 0.003, tube.max_minor_radius = 0.02;
+  const auto tor = shapes::Torus::from_sample(P, N, tube);
   ASSERT_TRUE(tor);
   EXPECT_NEAR(tor->minor_radius, 0.006, 1e-7);
-  EXPECT_NEAR(tor->radius, 0.025, 1e-7);
-  EXPECT_NEAR((tor->point - t.point).norm(), 0.0, 1e-7);
-  EXPECT_NEAR(std::abs(tor->axis.dot(t.axis)), 1.0, 1e-9);
+  EXPECT_NEAR(tor->major_radius, 0.025, 1e-7);
+  EXPECT_NEAR((tor->center - t.origin()).norm(), 0.0, 1e-7);
+  EXPECT_NEAR(std::abs(tor->normal.dot(*t.direction())), 1.0, 1e-9);
   // degenerate: parallel normals give no cylinder
-  EXPECT_FALSE(fd::cylinder_from(p1, n1, p1 + 0.01 * axis, n1));
+  auto [dp, dn] = two(p1, n1, p1 + 0.01 * axis, n1);
+  EXPECT_FALSE(shapes::Cylinder::from_sample(dp, dn, limits));
 }
 
 TEST(Features, RefitRecoversShapesFromNoisyPoints) {
@@ -111,13 +127,14 @@ TEST(Features, RefitRecoversShapesFromNoisyPoints) {
     pts.push_back(p + n * noise(rng));
   }
   Segment start = t;
-  start.point += Eigen::Vector3d(0.003, -0.002, 0.002);
-  start.radius *= 1.1, start.minor_radius *= 0.8;
-  start.axis = (start.axis + Eigen::Vector3d(0.05, 0, 0)).normalized();
+  auto& S = start.as<shapes::Torus>();
+  S.center += Eigen::Vector3d(0.003, -0.002, 0.002);
+  S.major_radius *= 1.1, S.minor_radius *= 0.8;
+  S.normal = (S.normal + Eigen::Vector3d(0.05, 0, 0)).normalized();
   const Segment fit = fd::refit_points(start, pts);
-  EXPECT_NEAR(fit.radius, 0.027, 5e-4);
-  EXPECT_NEAR(fit.minor_radius, 0.007, 5e-4);
-  EXPECT_LT((fit.point - t.point).norm(), 1e-3);
+  EXPECT_NEAR(fit.as<shapes::Torus>().major_radius, 0.027, 5e-4);
+  EXPECT_NEAR(fit.as<shapes::Torus>().minor_radius, 0.007, 5e-4);
+  EXPECT_LT((fit.origin() - t.origin()).norm(), 1e-3);
   EXPECT_LT(fit.residual, 0.0008);
 }
 
@@ -126,14 +143,10 @@ TEST(Features, RefitRecoversShapesFromNoisyPoints) {
 // at 1.3 m); the fit along the rays is the maximum-likelihood one and is not.
 TEST(Features, RefitAlongTheRaysIsUnbiasedUnderAxialNoise) {
   std::mt19937_64 rng(11);
-  Segment outer;
-  outer.cls = PrimitiveClass::Cylinder;
-  outer.point = Eigen::Vector3d(0.06, 0.05, 1.3), outer.axis = Eigen::Vector3d(0.05, -0.8, 0.6).normalized();
-  outer.radius = 0.04;
-  Segment inner = outer;  // the far inside wall of a wider cylinder, seen through its open side
-  inner.radius = 0.06, inner.inward = true;
-  Segment ball;
-  ball.cls = PrimitiveClass::Sphere, ball.point = Eigen::Vector3d(-0.05, 0.02, 1.2), ball.radius = 0.05;
+  const Segment outer = cylinder({0.06, 0.05, 1.3}, {0.05, -0.8, 0.6}, 0.04);
+  Segment inner = cylinder({0.06, 0.05, 1.3}, {0.05, -0.8, 0.6}, 0.06);  // the far inside wall of a wider
+  inner.inward = true;                                                  // cylinder, seen through its open side
+  const Segment ball(shapes::Sphere{Eigen::Vector3d(-0.05, 0.02, 1.2), 0.05});
   for (const Segment& truth : {outer, inner, ball}) {
     double geometric = 0, along = 0;
     const int trials = 12;
@@ -141,12 +154,13 @@ TEST(Features, RefitAlongTheRaysIsUnbiasedUnderAxialNoise) {
       const auto pts = sensed(truth, 0.05, 0.003, rng);  // sigma_z of a Kinect at ~1.3 m
       ASSERT_GT(pts.size(), 500u);
       Segment start = truth;
-      start.point += Eigen::Vector3d(0.002, -0.001, 0.002), start.radius += 0.002;
-      geometric += fd::refit_points(start, pts).radius - truth.radius;
-      along += fd::refit_points(start, pts, fd::Residual::AlongRay).radius - truth.radius;
+      start.set_field("point", Eigen::Vector3d(start.origin() + Eigen::Vector3d(0.002, -0.001, 0.002)));
+      start.set_field("radius", start.size() + 0.002);
+      geometric += fd::refit_points(start, pts).size() - truth.size();
+      along += fd::refit_points(start, pts, fd::Residual::AlongRay).size() - truth.size();
     }
     geometric *= 1000.0 / trials, along *= 1000.0 / trials;  // mean signed errors, mm
-    const std::string figures = std::string(to_string(truth.cls)) + (truth.inward ? " (inner wall)" : "") +
+    const std::string figures = std::string(truth.class_name()) + (truth.inward ? " (inner wall)" : "") +
                                 ": mean radius error, geometric fit " + std::to_string(geometric) +
                                 " mm, along the rays " + std::to_string(along) + " mm";
     std::printf("%s\n", figures.c_str());
@@ -170,9 +184,10 @@ TEST(Features, DetectsTheBodiesOfACleanSceneWithTheirRadii) {
       if (obj.model != "mug" && obj.model != "jar" && obj.model != "can" && obj.model != "bottle") continue;
       ++bodies;
       for (const auto& s : segs)
-        if (s.cls == PrimitiveClass::Cylinder && std::abs(s.radius - body->camera.radius) < 0.002 &&
-            std::abs(s.axis.dot(body->camera.axis)) > std::cos(2 * M_PI / 180) &&
-            fd::signed_distance(s, body->camera.point) < 0.0) {
+        if (const auto* c = s.get_if<shapes::Cylinder>();
+            c && std::abs(c->radius - body->camera.radius) < 0.002 &&
+            std::abs(c->axis.dot(body->camera.axis)) > std::cos(2 * M_PI / 180) &&
+            s.signed_distance(body->camera.point) < 0.0) {
           ++found;
           break;
         }
@@ -248,9 +263,8 @@ TEST(Features, BodiesAreMeasuredOnTheUnfilteredDepth) {
 TEST(Features, HandleFitHoldsTheRingPlaneAndFacesTheCamera) {
   // a mug body along -y at 0.8 m, its handle's ring in the plane through the axis; only the
   // half of the tube that faces the camera is sampled, with 1 mm noise
-  Segment body;
-  body.cls = PrimitiveClass::Cylinder;
-  body.point = {0.0, 0.0, 0.8}, body.axis = {0, -1, 0}, body.radius = 0.04, body.height = 0.1;
+  const Segment body = cylinder({0.0, 0.0, 0.8}, {0, -1, 0}, 0.04, 0.1);
+  const auto& B = body.as<shapes::Cylinder>();
   const Segment truth = torus({0.055, 0.0, 0.8}, {0, 0, 1}, 0.025, 0.006);
   std::mt19937_64 rng(5);
   std::normal_distribution<double> noise(0.0, 0.001);
@@ -258,28 +272,28 @@ TEST(Features, HandleFitHoldsTheRingPlaneAndFacesTheCamera) {
   for (double a = -1.4; a <= 1.4; a += 0.05)
     for (double b = -M_PI; b < M_PI; b += 0.3) {
       auto [p, n] = torus_point(truth, a, b);
-      const double from_axis = Eigen::Vector2d(p.x() - body.point.x(), p.z() - body.point.z()).norm();
-      if (n.dot(-p.normalized()) <= 0.1 || from_axis < body.radius) continue;  // seen, outside the body
+      const double from_axis = Eigen::Vector2d(p.x() - B.point.x(), p.z() - B.point.z()).norm();
+      if (n.dot(-p.normalized()) <= 0.1 || from_axis < B.radius) continue;  // seen, outside the body
       pts.push_back(p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
     }
   Segment start = truth;
-  start.point += Eigen::Vector3d(0.01, 0.008, 0.0), start.radius = 0.02, start.minor_radius = 0.006;
-  const Segment fit = fd::refit_handle(body, start, pts);
-  EXPECT_NEAR(fit.radius, 0.025, 0.002);
-  EXPECT_NEAR(fit.minor_radius, 0.006, 0.002);
-  EXPECT_LT((fit.point - truth.point).norm(), 0.003);
-  EXPECT_NEAR(std::abs(fit.axis.dot(truth.axis)), 1.0, 1e-3);
+  start.as<shapes::Torus>().center += Eigen::Vector3d(0.01, 0.008, 0.0);
+  start.as<shapes::Torus>().major_radius = 0.02, start.as<shapes::Torus>().minor_radius = 0.006;
+  const Segment fit = features::refit_handle(body, start, pts);
+  EXPECT_NEAR(fit.as<shapes::Torus>().major_radius, 0.025, 0.002);
+  EXPECT_NEAR(fit.as<shapes::Torus>().minor_radius, 0.006, 0.002);
+  EXPECT_LT((fit.origin() - truth.origin()).norm(), 0.003);
+  EXPECT_NEAR(std::abs(fit.direction()->dot(*truth.direction())), 1.0, 1e-3);
 }
 
 TEST(Features, HandleTurnTellsAHandleFromARingTurnedAwayFromTheAxis) {
   // a ring beside a body along -y at 0.8 m, its plane turned about the body's axis by `beta`
   // (0: a handle's, through the axis; a ring leaning on a jar is turned 35-70 deg); the half of
   // the tube that faces the camera is seen, with 1 mm noise; the plane-held handle fit starts it
-  Segment body;
-  body.cls = PrimitiveClass::Cylinder;
-  body.point = {0.0, 0.0, 0.8}, body.axis = {0, -1, 0}, body.radius = 0.04, body.height = 0.1;
+  const Segment body = cylinder({0.0, 0.0, 0.8}, {0, -1, 0}, 0.04, 0.1);
+  const auto& B = body.as<shapes::Cylinder>();
   for (double beta : {0.0, 45.0, -60.0}) {
-    const Eigen::Vector3d n = Eigen::AngleAxisd(beta * M_PI / 180, body.axis) * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d n = Eigen::AngleAxisd(beta * M_PI / 180, B.axis) * Eigen::Vector3d::UnitZ();
     const double reach = 0.025 * std::cos(beta * M_PI / 180) + 0.046;  // its centre from the axis
     const Segment truth = torus({reach, 0.0, 0.8}, n, 0.025, 0.006);
     std::mt19937_64 rng(6);
@@ -288,12 +302,12 @@ TEST(Features, HandleTurnTellsAHandleFromARingTurnedAwayFromTheAxis) {
     for (double a = -M_PI; a < M_PI; a += 0.05)
       for (double b = -M_PI; b < M_PI; b += 0.3) {
         auto [p, pn] = torus_point(truth, a, b);
-        const double from_axis = Eigen::Vector2d(p.x() - body.point.x(), p.z() - body.point.z()).norm();
-        if (pn.dot(-p.normalized()) <= 0.1 || from_axis < body.radius + 0.002) continue;
+        const double from_axis = Eigen::Vector2d(p.x() - B.point.x(), p.z() - B.point.z()).norm();
+        if (pn.dot(-p.normalized()) <= 0.1 || from_axis < B.radius + 0.002) continue;
         pts.push_back(p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
       }
-    const Segment held = fd::refit_handle(body, torus({reach, 0.0, 0.8}, {0, 0, 1}, 0.025, 0.006), pts, true);
-    const auto turn = fd::handle_turn(body, held, pts);
+    const Segment held = features::refit_handle(body, torus({reach, 0.0, 0.8}, {0, 0, 1}, 0.025, 0.006), pts, true);
+    const auto turn = features::handle_turn(body, held, pts);
     SCOPED_TRACE("beta " + std::to_string(beta));
     EXPECT_NEAR(std::abs(turn.turn_deg), std::abs(beta), 8.0);
     if (beta == 0.0) {

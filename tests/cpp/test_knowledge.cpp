@@ -21,14 +21,14 @@ const std::string kModels = std::string(MEREO_SOURCE_DIR) + "/graphs/models/tabl
 
 Segment cylinder(Eigen::Vector3d p, Eigen::Vector3d axis, double r, double h) {
   Segment s;
-  s.cls = PrimitiveClass::Cylinder;
-  s.point = p, s.axis = axis.normalized(), s.radius = r, s.height = h;
+  s.shape = shapes::Cylinder{};
+  s.as<shapes::Cylinder>().point = p, s.as<shapes::Cylinder>().axis = axis.normalized(), s.as<shapes::Cylinder>().radius = r, s.as<shapes::Cylinder>().height = h;
   return s;
 }
 Segment torus(Eigen::Vector3d c, Eigen::Vector3d n, double R, double r) {
   Segment s;
-  s.cls = PrimitiveClass::Torus;
-  s.point = c, s.axis = n.normalized(), s.radius = R, s.minor_radius = r;
+  s.shape = shapes::Torus{};
+  s.as<shapes::Torus>().center = c, s.as<shapes::Torus>().normal = n.normalized(), s.as<shapes::Torus>().major_radius = R, s.as<shapes::Torus>().minor_radius = r;
   return s;
 }
 
@@ -100,7 +100,7 @@ TEST(Predicates, HandleOnBodyAndItsLookalikes) {
   EXPECT_NEAR(attribute_value(body, "tilt_deg", ctx), 0.0, 1e-9);
   EXPECT_NEAR(attribute_value(body, "aspect", ctx), 1.25, 1e-12);
   EXPECT_NEAR(surface_distance(body, {0.1, 0, 1}), 0.06, 1e-12);
-  EXPECT_NEAR(surface_distance(handle, handle.point + Eigen::Vector3d(R, 0, 0)), 0.0, 1e-12);
+  EXPECT_NEAR(surface_distance(handle, handle.origin() + Eigen::Vector3d(R, 0, 0)), 0.0, 1e-12);
 }
 
 TEST(Models, ShippedFileLoadsAndSpecializes) {

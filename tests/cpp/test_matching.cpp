@@ -17,7 +17,7 @@ using namespace mereo::matching;
 namespace {
 
 const std::string kModels = std::string(MEREO_SOURCE_DIR) + "/graphs/models/tabletop.yaml";
-const PrimitiveClass kClasses[] = {PrimitiveClass::Cylinder, PrimitiveClass::Torus, PrimitiveClass::Sphere};
+const PrimitiveClass kClasses[] = {PrimitiveClass::of<shapes::Cylinder>(), PrimitiveClass::of<shapes::Torus>(), PrimitiveClass::of<shapes::Sphere>()};
 
 /// A random concept (2-4 parts, random ranges and constraints) and random segments.
 std::pair<Concept, std::vector<Segment>> random_problem(std::mt19937_64& rng) {
@@ -56,24 +56,18 @@ std::pair<Concept, std::vector<Segment>> random_problem(std::mt19937_64& rng) {
   }
   std::vector<Segment> segs(n_segments);
   for (auto& s : segs) {
-    s.cls = kClasses[rng() % 3];
-    s.point = Eigen::Vector3d(U(rng), U(rng), U(rng)) * 0.5;
-    s.axis = Eigen::Vector3d(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5).normalized();
+    s.shape = kClasses[rng() % 3].make();
+    s.set_field("point", Eigen::Vector3d(Eigen::Vector3d(U(rng), U(rng), U(rng)) * 0.5));
+    s.set_field("axis", Eigen::Vector3d(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5).normalized());
     // quantised radii make exact ties common, so the tie-break is tested too
-    s.radius = 0.01 * std::round(20 * U(rng));
-    s.minor_radius = 0.005;
-    s.height = 0.05 + 0.1 * U(rng);
+    s.set_field("radius", 0.01 * std::round(20 * U(rng)));
+    s.set_field("minor_radius", 0.005);
+    s.set_field("height", 0.05 + 0.1 * U(rng));
   }
   return {c, segs};
 }
 
-Segment to_segment(const synthetic::Shape& shape) {
-  Segment s;
-  s.cls = primitive_class(shape.cls);
-  s.point = shape.point, s.axis = shape.axis.normalized(), s.radius = shape.radius;
-  s.minor_radius = shape.minor_radius, s.height = shape.height, s.inward = shape.inward;
-  return s;
-}
+Segment to_segment(const synthetic::Shape& shape) { return *shape.segment(); }
 
 }  // namespace
 
@@ -162,10 +156,11 @@ TEST(Matching, LatticeLinksHypothesesThatShareASegment) {
   KnowledgeBase kb;
   load_models(kb, kModels);
   Segment body;
-  body.cls = PrimitiveClass::Cylinder;
-  body.point = {0, 0, 1}, body.axis = {0, -1, 0}, body.radius = 0.034, body.height = 0.11;
+  body.shape = shapes::Cylinder{};
+  body.as<shapes::Cylinder>().point = {0, 0, 1}, body.as<shapes::Cylinder>().axis = {0, -1, 0}, body.as<shapes::Cylinder>().radius = 0.034, body.as<shapes::Cylinder>().height = 0.11;
   Segment other = body;
-  other.point = {0.3, 0, 1}, other.radius = 0.05, other.height = 0.15;
+  other.as<shapes::Cylinder>().point = {0.3, 0, 1}, other.as<shapes::Cylinder>().radius = 0.05;
+  other.as<shapes::Cylinder>().height = 0.15;
   MatchOptions o;
   o.context.up = {0, -1, 0};
   const Lattice l = recognize(kb, {"can", "jar", "cup"}, {body, other}, o);
@@ -199,12 +194,12 @@ concepts:
   const Eigen::Vector3d up(0, -1, 0);
   auto mug_at = [&](double x, std::vector<Segment>& out) {
     Segment body;
-    body.cls = PrimitiveClass::Cylinder;
-    body.point = {x, 0, 1}, body.axis = up, body.radius = 0.04, body.height = 0.1;
+    body.shape = shapes::Cylinder{};
+    body.as<shapes::Cylinder>().point = {x, 0, 1}, body.as<shapes::Cylinder>().axis = up, body.as<shapes::Cylinder>().radius = 0.04, body.as<shapes::Cylinder>().height = 0.1;
     Segment handle;
-    handle.cls = PrimitiveClass::Torus;
-    handle.point = {x + 0.04 + 0.6 * 0.025, 0, 1}, handle.axis = {0, 0, 1}, handle.radius = 0.025;
-    handle.minor_radius = 0.006;
+    handle.shape = shapes::Torus{};
+    handle.as<shapes::Torus>().center = {x + 0.04 + 0.6 * 0.025, 0, 1}, handle.as<shapes::Torus>().normal = {0, 0, 1}, handle.as<shapes::Torus>().major_radius = 0.025;
+    handle.as<shapes::Torus>().minor_radius = 0.006;
     out.push_back(body);
     out.push_back(handle);
   };

@@ -22,8 +22,8 @@ namespace {
 
 Segment cylinder(Eigen::Vector3d p, double r, double h) {
   Segment s;
-  s.cls = PrimitiveClass::Cylinder;
-  s.point = p, s.axis = Eigen::Vector3d(0, -1, 0), s.radius = r, s.height = h, s.inliers = 1000;
+  s.shape = shapes::Cylinder{};
+  s.as<shapes::Cylinder>().point = p, s.as<shapes::Cylinder>().axis = Eigen::Vector3d(0, -1, 0), s.as<shapes::Cylinder>().radius = r, s.as<shapes::Cylinder>().height = h, s.inliers = 1000;
   return s;
 }
 
@@ -66,8 +66,8 @@ TEST(Interpret, MostExplainingHypothesisWinsAndAlternativesAreListed) {
 TEST(Interpret, ResultJsonFollowsTheContract) {
   std::vector<Segment> segs = {cylinder({0.0, 0.0, 0.8}, 0.04, 0.1)};
   Segment t;
-  t.cls = PrimitiveClass::Torus;
-  t.point = {0.06, 0.0, 0.8}, t.axis = {0, 0, 1}, t.radius = 0.025, t.minor_radius = 0.006, t.inliers = 300;
+  t.shape = shapes::Torus{};
+  t.as<shapes::Torus>().center = {0.06, 0.0, 0.8}, t.as<shapes::Torus>().normal = {0, 0, 1}, t.as<shapes::Torus>().major_radius = 0.025, t.as<shapes::Torus>().minor_radius = 0.006, t.inliers = 300;
   segs.push_back(t);
   matching::RecognizedObject o;
   o.model = "mug", o.score = 0.91, o.posterior = 0.97, o.accepted = true, o.parts = {{"body", 0}, {"handle", 1}};

@@ -108,20 +108,21 @@ std::vector<PlanarPoint> landmark_points(const std::vector<Segment>& segments, c
   const Pose A = table_from(plane);
   const double cos_tilt = std::cos(o.max_tilt_deg * kPi / 180.0);
   for (const auto& s : segments) {
-    if (s.cls == PrimitiveClass::Torus) {
-      // a handle-sized ring: its centre dropped onto the table
-      if (s.inliers < o.min_ring_inliers || s.radius < 0.01 || s.radius > 0.08 || s.minor_radius > 0.02) continue;
-      const Eigen::Vector3d foot = s.point - plane.normal * (plane.normal.dot(s.point) + plane.d);
-      out.push_back({(A * foot).head<2>(), s.radius, PrimitiveClass::Torus, o.ring_weight});
+    if (const auto* ring = s.get_if<shapes::Torus>()) {
+      // a handle (features/handle.hpp): its ring's centre dropped onto the table
+      if (s.inliers < o.min_ring_inliers || !o.handle.plausible(s)) continue;
+      const Eigen::Vector3d foot = ring->center - plane.normal * (plane.normal.dot(ring->center) + plane.d);
+      out.push_back({(A * foot).head<2>(), ring->major_radius, s.cls(), o.ring_weight});
       continue;
     }
-    if (s.cls != PrimitiveClass::Cylinder || s.inward || s.inliers < o.min_inliers) continue;
-    if (s.radius < o.min_radius || s.radius > o.max_radius) continue;
-    const double along = plane.normal.dot(s.axis);
+    const auto* c = s.get_if<shapes::Cylinder>();
+    if (!c || s.inward || s.inliers < o.min_inliers) continue;
+    if (c->radius < o.min_radius || c->radius > o.max_radius) continue;
+    const double along = plane.normal.dot(c->axis);
     if (std::abs(along) < cos_tilt) continue;
     // where the axis meets the table
-    const Eigen::Vector3d foot = s.point - s.axis * ((plane.normal.dot(s.point) + plane.d) / along);
-    out.push_back({(A * foot).head<2>(), s.radius, PrimitiveClass::Cylinder, 1.0});
+    const Eigen::Vector3d foot = c->point - c->axis * ((plane.normal.dot(c->point) + plane.d) / along);
+    out.push_back({(A * foot).head<2>(), c->radius, s.cls(), 1.0});
   }
   return out;
 }
@@ -188,7 +189,7 @@ LandmarkFix locate(const LandmarkMap& map, const TablePlane& plane, const std::v
   // the turn: two axes fix it; rings, fitted less precisely, only bound the guess's (it stays
   // within `ring_turn_tolerance_deg` of theirs); one point leaves it to the guess. Then the slide.
   int axes = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) axes += which[i] >= 0 && points[i].cls == PrimitiveClass::Cylinder;
+  for (std::size_t i = 0; i < points.size(); ++i) axes += which[i] >= 0 && points[i].cls == PrimitiveClass::of<shapes::Cylinder>();
   if (fix.matched >= 1 && axes < 2) {
     double turn = g0.theta;
     if (fix.matched >= 2) {

@@ -107,18 +107,6 @@ std::optional<cv::Point> project(const Intrinsics& K, const Eigen::Vector3d& x) 
   return cv::Point(px.x(), px.y());
 }
 
-/// A circle of `radius` about `centre` in the plane normal to `axis`, as an image polyline.
-std::vector<cv::Point> circle(const Intrinsics& K, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
-                              double radius, int samples = 64) {
-  const Eigen::Vector3d e1 = axis.normalized().unitOrthogonal(), e2 = axis.normalized().cross(e1);
-  std::vector<cv::Point> out;
-  for (int k = 0; k < samples; ++k) {
-    const double a = 2 * M_PI * k / samples;
-    if (auto p = project(K, centre + radius * (std::cos(a) * e1 + std::sin(a) * e2))) out.push_back(*p);
-  }
-  return out;
-}
-
 }  // namespace
 
 ColorImage draw_objects(const ColorImage& color, const Intrinsics& K, const std::vector<DrawnObject>& objects) {
@@ -133,31 +121,16 @@ ColorImage draw_objects(const ColorImage& color, const Intrinsics& K, const std:
     const cv::Scalar c = palette[k % 8];
     std::optional<cv::Point> anchor;
     for (const Segment& s : objects[k].parts) {
-      const Eigen::Vector3d a = s.axis.normalized();
-      std::vector<std::vector<cv::Point>> lines;
-      if (s.cls == PrimitiveClass::Cylinder) {
-        const Eigen::Vector3d top = s.point + 0.5 * s.height * a, bottom = s.point - 0.5 * s.height * a;
-        lines.push_back(circle(K, top, a, s.radius));
-        lines.push_back(circle(K, bottom, a, s.radius));
-        // silhouette: where the wall's normal is perpendicular to the ray to the axis
-        const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
-        const double phi = std::atan2(-e1.dot(s.point), e2.dot(s.point));
-        for (double f : {phi, phi + M_PI}) {
-          const Eigen::Vector3d r = s.radius * (std::cos(f) * e1 + std::sin(f) * e2);
-          const auto p = project(K, top + r), q = project(K, bottom + r);
-          if (p && q) lines.push_back({*p, *q});
-        }
-        const Eigen::Vector3d up = a.dot(-Eigen::Vector3d::UnitY()) >= 0 ? top : bottom;
-        if (auto p = project(K, up - s.radius * Eigen::Vector3d::UnitY()); p && !anchor) anchor = p;
-      } else if (s.cls == PrimitiveClass::Torus) {
-        lines.push_back(circle(K, s.point, a, s.radius));
-        lines.push_back(circle(K, s.point, a, s.radius + s.minor_radius));
-      } else if (s.cls == PrimitiveClass::Sphere) {
-        lines.push_back(circle(K, s.point, s.point, s.radius));  // the outline facing the camera
-        if (auto p = project(K, s.point - s.radius * Eigen::Vector3d::UnitY()); p && !anchor) anchor = p;
-      }
-      for (const auto& l : lines)
+      const shapes::Outline outline = s.outline();  // the class's own, mereo/shapes/*.cpp
+      for (const auto& line : outline.lines) {
+        std::vector<cv::Point> l;
+        for (const auto& x : line)
+          if (auto p = project(K, x)) l.push_back(*p);
+        if (line.size() == 2 && l.size() < 2) continue;  // a segment: both ends or nothing
         if (l.size() >= 2) cv::polylines(img, l, l.size() > 2, c, thick, cv::LINE_AA);
+      }
+      if (outline.anchor && !anchor)
+        if (auto p = project(K, *outline.anchor)) anchor = p;
     }
     if (anchor && !objects[k].label.empty()) {
       const double scale = 0.5;

@@ -1,5 +1,6 @@
 // The knowledge base: concepts, specialization, checks (see model.hpp).
 #include "mereo/knowledge/model.hpp"
+#include "mereo/shapes/table.hpp"
 
 #include <algorithm>
 #include <set>
@@ -19,8 +20,8 @@ std::string where(const std::string& origin, const std::string& fallback) {
 const char* to_string(Detail d) { return d == Detail::Coarse ? "coarse" : "fine"; }
 
 bool is_primitive(const std::string& cls) {
-  static const std::set<std::string> names = {"plane", "cylinder", "torus", "sphere", "line", "arc"};
-  return names.count(cls) > 0;
+  static const std::vector<std::string> names = primitive_class_names();  // the shape table's
+  return std::find(names.begin(), names.end(), cls) != names.end();
 }
 
 double Constraint::param(const std::string& name, double fallback) const {

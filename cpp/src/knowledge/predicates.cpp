@@ -22,11 +22,11 @@ double falling(double x, double full, double zero) {
 /// The condition x >= 0 as a ramp of width 2 * tol centred on 0.
 double ramp(double x, double tol) { return std::clamp((x + tol) / (2 * tol), 0.0, 1.0); }
 
-bool has_axis(PrimitiveClass c) { return c != PrimitiveClass::Sphere; }
+bool has_axis(const Segment& s) { return s.direction().has_value(); }
 
-/// Angle in [0, 90] degrees between two undirected axes.
+/// Angle in [0, 90] degrees between two undirected axes (both have one).
 double axis_angle(const Segment& a, const Segment& b) {
-  const double c = std::abs(a.axis.normalized().dot(b.axis.normalized()));
+  const double c = std::abs(a.direction()->normalized().dot(b.direction()->normalized()));
   return std::acos(std::min(1.0, c)) / kDeg;
 }
 
@@ -36,47 +36,31 @@ double distance_to_line(const Eigen::Vector3d& p, const Eigen::Vector3d& point, 
   return (q - a * a.dot(q)).norm();
 }
 
-/// Half extent of s along the unit direction `dir` (for "on": lowest and highest points).
-double half_extent_along(const Segment& s, const Eigen::Vector3d& dir) {
-  const double c = std::abs(s.axis.normalized().dot(dir));
-  const double sn = std::sqrt(std::max(0.0, 1 - c * c));
-  switch (s.cls) {
-    case PrimitiveClass::Cylinder: return c * s.height / 2 + sn * s.radius;
-    case PrimitiveClass::Torus: return sn * (s.radius + s.minor_radius) + c * s.minor_radius;
-    case PrimitiveClass::Sphere: return s.radius;
-    case PrimitiveClass::Line: return c * s.height / 2;
-    case PrimitiveClass::Arc: return sn * s.radius;
-    case PrimitiveClass::Plane: return 0.0;
-  }
-  return 0.0;
-}
-
-double size_of(const Segment& s) { return s.cls == PrimitiveClass::Line ? s.height : s.radius; }
-
 double param(const Constraint& c, const char* name, double fallback) { return c.param(name, fallback); }
 
 double near(const Segment& a, const Segment& b, const Constraint& c) {
-  const double gap = std::max(surface_distance(a, b.point) - extent(b), surface_distance(b, a.point) - extent(a));
+  const double gap = std::max(a.surface_distance(b.origin()) - b.extent(), b.surface_distance(a.origin()) - a.extent());
   return falling(gap, 0.0, param(c, "max", 0.01));
 }
 
-/// The handle-on-body function: a torus (handle) and a cylinder (body).
-double handle_on_body(const Segment& torus, const Segment& body, double tol) {
+/// The handle-on-body function of Kasprzak et al.: a torus (handle) and a cylinder (body).
+double handle_on_body(const shapes::Torus& torus, const shapes::Cylinder& body, double tol) {
   const Eigen::Vector3d axis = body.axis.normalized();
-  const Eigen::Vector3d q = torus.point - body.point;
+  const Eigen::Vector3d q = torus.center - body.point;
   const double along = axis.dot(q);
   const double d = (q - axis * along).norm();
-  const double inner_inside = ramp(body.radius - (d - torus.radius), tol);  // d - R < r_body
-  const double outer_outside = ramp((d + torus.radius) - body.radius, tol);  // d + R > r_body
+  const double inner_inside = ramp(body.radius - (d - torus.major_radius), tol);  // d - R < r_body
+  const double outer_outside = ramp((d + torus.major_radius) - body.radius, tol);  // d + R > r_body
   const double within_height = ramp(body.height / 2 - std::abs(along), tol);
   return std::min({inner_inside, outer_outside, within_height});
 }
 
 double intersects(const Segment& a, const Segment& b, const Constraint& c) {
   const double tol = param(c, "tolerance", 0.003);
-  if (a.cls == PrimitiveClass::Torus && b.cls == PrimitiveClass::Cylinder) return handle_on_body(a, b, tol);
-  if (a.cls == PrimitiveClass::Cylinder && b.cls == PrimitiveClass::Torus) return handle_on_body(b, a, tol);
-  return ramp(extent(b) - surface_distance(a, b.point), tol);
+  using shapes::Cylinder, shapes::Torus;
+  if (a.is<Torus>() && b.is<Cylinder>()) return handle_on_body(a.as<Torus>(), b.as<Cylinder>(), tol);
+  if (a.is<Cylinder>() && b.is<Torus>()) return handle_on_body(b.as<Torus>(), a.as<Cylinder>(), tol);
+  return ramp(b.extent() - a.surface_distance(b.origin()), tol);
 }
 
 double parallel(const Segment& a, const Segment& b, const Constraint& c) {
@@ -89,27 +73,30 @@ double perpendicular(const Segment& a, const Segment& b, const Constraint& c) {
 }
 double coaxial(const Segment& a, const Segment& b, const Constraint& c) {
   const double dist = param(c, "distance", 0.01);
-  return std::min(parallel(a, b, c), falling(distance_to_line(b.point, a.point, a.axis), dist, 2 * dist));
+  return std::min(parallel(a, b, c), falling(distance_to_line(b.origin(), a.origin(), *a.direction()), dist, 2 * dist));
 }
 double above(const Segment& a, const Segment& b, const Constraint& c, const Context& ctx) {
   const double margin = param(c, "margin", 0.01);
-  const double h = ctx.up.normalized().dot(a.point - b.point);
+  const double h = ctx.up.normalized().dot(a.origin() - b.origin());
   return std::clamp(h / margin, 0.0, 1.0);
 }
 double on(const Segment& a, const Segment& b, const Constraint& c, const Context& ctx) {
   const double tol = param(c, "tolerance", 0.01);
   const Eigen::Vector3d up = ctx.up.normalized();
-  const double low_a = up.dot(a.point) - half_extent_along(a, up);
-  const double top_b = b.cls == PrimitiveClass::Plane ? -b.d * up.dot(b.axis) : up.dot(b.point) + half_extent_along(b, up);
+  const double low_a = up.dot(a.origin()) - a.half_extent_along(up);
+  if (const auto* plane = b.get_if<shapes::Plane>()) {  // unbounded: a's foot on it
+    const double top_b = -plane->d * up.dot(plane->normal);
+    return falling(std::abs(low_a - top_b), tol, 2 * tol);
+  }
+  const double top_b = up.dot(b.origin()) + b.half_extent_along(up);
   const double contact = falling(std::abs(low_a - top_b), tol, 2 * tol);
-  if (b.cls == PrimitiveClass::Plane) return contact;
-  const Eigen::Vector3d dh = (a.point - b.point) - up * up.dot(a.point - b.point);
-  const double reach = extent(b);
+  const Eigen::Vector3d dh = (a.origin() - b.origin()) - up * up.dot(a.origin() - b.origin());
+  const double reach = b.extent();
   return std::min(contact, falling(dh.norm(), reach, reach + tol));
 }
 double same_size(const Segment& a, const Segment& b, const Constraint& c) {
   const double ratio = param(c, "ratio", 0.8);
-  const double sa = size_of(a), sb = size_of(b);
+  const double sa = a.size(), sb = b.size();
   if (!(sa > 0) || !(sb > 0)) return 0.0;
   const double q = std::min(sa, sb) / std::max(sa, sb);
   return std::clamp((q - (ratio - 0.2)) / 0.2, 0.0, 1.0);
@@ -117,7 +104,7 @@ double same_size(const Segment& a, const Segment& b, const Constraint& c) {
 double distance(const Segment& a, const Segment& b, const Constraint& c) {
   const double margin = param(c, "margin", 0.01);
   const double lo = param(c, "min", 0.0), hi = param(c, "max", 1e300);
-  return Membership::range(lo, hi, margin)((a.point - b.point).norm());
+  return Membership::range(lo, hi, margin)((a.origin() - b.origin()).norm());
 }
 
 const std::map<std::string, std::vector<std::string>>& predicate_table() {
@@ -164,20 +151,21 @@ bool is_attribute(const std::string& name) {
 }
 
 double attribute_value(const Segment& s, const std::string& name, const Context& ctx) {
-  if (name == "radius") return s.radius;
-  if (name == "height") return s.height;
-  if (name == "minor_radius") return s.minor_radius;
-  if (name == "aspect") return s.radius > 0 ? s.height / (2 * s.radius) : NAN;
+  // the class's own (mereo/shapes/*.cpp: radius, height, minor_radius, aspect, d...), then those
+  // of every segment; an attribute the class lacks is NaN (a membership of 0)
+  if (const auto v = s.attribute(name)) return *v;
   if (name == "tilt_deg") {
-    const double c = std::abs(s.axis.normalized().dot(ctx.up.normalized()));
+    const auto axis = s.direction();
+    if (!axis) return NAN;
+    const double c = std::abs(axis->normalized().dot(ctx.up.normalized()));
     return std::acos(std::min(1.0, c)) / kDeg;
   }
-  if (name == "elevation") return ctx.up.normalized().dot(s.point);
+  if (name == "elevation") return ctx.up.normalized().dot(s.origin());
   if (name == "inliers") return double(s.inliers);
   if (name == "residual") return s.residual;
   if (name == "hue") return s.hue;
-  if (name == "d") return s.d;
   if (name == "inward") return s.inward ? 1.0 : 0.0;
+  if (is_attribute(name)) return NAN;
   throw std::invalid_argument("unknown attribute '" + name + "'");
 }
 
@@ -200,15 +188,15 @@ CompiledConstraint compile(const Constraint& c) {
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return intersects(a, b, k); };
   else if (p == "parallel")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
-      return has_axis(a.cls) && has_axis(b.cls) ? parallel(a, b, k) : 0.0;
+      return has_axis(a) && has_axis(b) ? parallel(a, b, k) : 0.0;
     };
   else if (p == "perpendicular")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
-      return has_axis(a.cls) && has_axis(b.cls) ? perpendicular(a, b, k) : 0.0;
+      return has_axis(a) && has_axis(b) ? perpendicular(a, b, k) : 0.0;
     };
   else if (p == "coaxial")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
-      return has_axis(a.cls) && has_axis(b.cls) ? coaxial(a, b, k) : 0.0;
+      return has_axis(a) && has_axis(b) ? coaxial(a, b, k) : 0.0;
     };
   else if (p == "above") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return above(a, b, k, x); };
   else if (p == "on") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return on(a, b, k, x); };
@@ -227,46 +215,8 @@ double evaluate(const Constraint& c, const std::vector<const Segment*>& parts, c
   return compile(c)(parts, ctx);
 }
 
-double surface_distance(const Segment& s, const Eigen::Vector3d& p) {
-  switch (s.cls) {
-    case PrimitiveClass::Plane: return std::abs(s.axis.normalized().dot(p) + s.d);
-    case PrimitiveClass::Cylinder: {
-      const Eigen::Vector3d a = s.axis.normalized();
-      const Eigen::Vector3d q = p - s.point;
-      const double along = a.dot(q);
-      const double radial = (q - a * along).norm() - s.radius;
-      const double axial = std::abs(along) - s.height / 2;
-      return std::hypot(std::max(radial, 0.0), std::max(axial, 0.0));
-    }
-    case PrimitiveClass::Torus:
-    case PrimitiveClass::Arc: {
-      const Eigen::Vector3d n = s.axis.normalized();
-      const Eigen::Vector3d q = p - s.point;
-      const double h = n.dot(q);
-      const double rho = (q - n * h).norm();
-      const double tube = s.cls == PrimitiveClass::Torus ? s.minor_radius : 0.0;
-      return std::max(0.0, std::hypot(rho - s.radius, h) - tube);
-    }
-    case PrimitiveClass::Sphere: return std::max(0.0, (p - s.point).norm() - s.radius);
-    case PrimitiveClass::Line: {
-      const Eigen::Vector3d a = s.axis.normalized();
-      const double t = std::clamp(a.dot(p - s.point), -s.height / 2, s.height / 2);
-      return (p - (s.point + a * t)).norm();
-    }
-  }
-  return INFINITY;
-}
+double surface_distance(const Segment& s, const Eigen::Vector3d& p) { return s.surface_distance(p); }
 
-double extent(const Segment& s) {
-  switch (s.cls) {
-    case PrimitiveClass::Cylinder: return std::hypot(s.radius, s.height / 2);
-    case PrimitiveClass::Torus: return s.radius + s.minor_radius;
-    case PrimitiveClass::Sphere: return s.radius;
-    case PrimitiveClass::Line: return s.height / 2;
-    case PrimitiveClass::Arc: return s.radius;
-    case PrimitiveClass::Plane: return 0.0;
-  }
-  return 0.0;
-}
+double extent(const Segment& s) { return s.extent(); }
 
 }  // namespace mereo::knowledge

@@ -94,27 +94,14 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
 namespace detail {
 
 Json segment_to_json(const Segment& s) {
-  auto vec = [](const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); };
   Json j;
-  j["class"] = to_string(s.cls);
-  switch (s.cls) {
-    case PrimitiveClass::Plane:
-      j["normal"] = vec(s.axis), j["d"] = s.d, j["point"] = vec(s.point);
-      break;
-    case PrimitiveClass::Cylinder:
-      j["point"] = vec(s.point), j["axis"] = vec(s.axis), j["radius"] = s.radius, j["height"] = s.height;
-      j["inward"] = s.inward;
-      break;
-    case PrimitiveClass::Torus:
-      j["center"] = vec(s.point), j["normal"] = vec(s.axis), j["major_radius"] = s.radius;
-      j["minor_radius"] = s.minor_radius;
-      break;
-    case PrimitiveClass::Sphere:
-      j["center"] = vec(s.point), j["radius"] = s.radius, j["inward"] = s.inward;
-      break;
-    default:
-      j["point"] = vec(s.point), j["axis"] = vec(s.axis);
-  }
+  j["class"] = s.class_name();
+  for (const auto& [name, value] : s.fields())  // the class's own, mereo/shapes/*.cpp
+    std::visit([&, key = name](const auto& v) {
+      using V = std::decay_t<decltype(v)>;
+      if constexpr (std::is_same_v<V, Eigen::Vector3d>) j[key] = Json::array({v.x(), v.y(), v.z()});
+      else j[key] = v;
+    }, value);
   j["inliers"] = s.inliers, j["residual"] = s.residual, j["hue"] = s.hue;
   return j;
 }

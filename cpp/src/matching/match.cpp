@@ -135,7 +135,7 @@ struct Prepared {
     for (std::size_t i = 0; i < P; ++i) {
       if (knowledge::is_primitive(c.parts[i].cls)) {
         for (std::size_t j = 0; j < segs.size(); ++j)
-          if (to_string(segs[j].cls) == c.parts[i].cls) {
+          if (segs[j].class_name() == c.parts[i].cls) {
             domain[i].push_back(int(j));
             unary[i][j] = part_score(c, int(i), segs[j], o.context);
           }
@@ -221,7 +221,7 @@ struct Prepared {
 }  // namespace
 
 double part_score(const Concept& c, int part, const Segment& s, const Context& ctx) {
-  if (to_string(s.cls) != c.parts.at(part).cls) return 0.0;
+  if (s.class_name() != c.parts.at(part).cls) return 0.0;
   double m = 1.0;
   for (const auto& a : c.attributes)
     if (a.part == c.parts[part].role) m *= a.range(knowledge::attribute_value(s, a.name, ctx));

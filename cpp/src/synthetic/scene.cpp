@@ -26,6 +26,21 @@ namespace mereo::synthetic {
 using detail::Rng;
 using detail::Vec3;
 
+std::optional<Segment> Shape::segment() const {
+  const auto names = primitive_class_names();
+  if (std::find(names.begin(), names.end(), cls) == names.end()) return std::nullopt;
+  Segment s(primitive_class(cls).make());
+  // the renderer's fields by their common names; a class takes those it has (set_field's aliases)
+  s.set_field("point", point);
+  s.set_field("axis", Eigen::Vector3d(axis.normalized()));
+  s.set_field("radius", radius);
+  s.set_field("height", height);
+  s.set_field("minor_radius", minor_radius);
+  s.set_field("d", -axis.normalized().dot(point));  // a plane's
+  s.inward = inward;
+  return s;
+}
+
 Shape Shape::transformed(const Pose& T) const {
   Shape s = *this;
   s.point = T * point;

@@ -22,6 +22,7 @@
 
 #include "mereo/core/camera.hpp"
 #include "mereo/core/segment.hpp"
+#include "mereo/features/handle.hpp"
 
 namespace mereo::cognitive {
 
@@ -31,6 +32,7 @@ struct LandmarkOptions {
   double max_radius = 0.15;
   std::size_t min_inliers = 150;     ///< pixels of a cylinder used as a landmark
   std::size_t min_ring_inliers = 100; ///< pixels of a ring (torus) used as a landmark
+  features::HandleOptions handle;     ///< what a handle (a ring used as a landmark) is
   double ring_weight = 0.1;          ///< a ring's centre in the fit, against an axis's 1 (its error is ~3x)
   double ring_turn_tolerance_deg = 3.0; ///< with fewer than two axes, the guess's turn stays within this of the rings'
   double match_distance = 0.015;     ///< metres, in the table's plane
@@ -49,7 +51,7 @@ struct TablePlane {
 struct Landmark {
   Eigen::Vector2d xy = Eigen::Vector2d::Zero();  ///< where the axis meets the table, table coordinates
   double radius = 0.0;
-  PrimitiveClass cls = PrimitiveClass::Cylinder;  ///< a cylinder's axis or a ring's (torus) centre
+  PrimitiveClass cls = PrimitiveClass::of<shapes::Cylinder>();  ///< a cylinder's axis or a ring's (torus) centre
   int views = 0;
 };
 
@@ -65,7 +67,7 @@ struct LandmarkMap {
 struct PlanarPoint {
   Eigen::Vector2d xy = Eigen::Vector2d::Zero();
   double radius = 0.0;  ///< a ring's: its major radius
-  PrimitiveClass cls = PrimitiveClass::Cylinder;
+  PrimitiveClass cls = PrimitiveClass::of<shapes::Cylinder>();
   double weight = 1.0;  ///< in the fit
 };
 

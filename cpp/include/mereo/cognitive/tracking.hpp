@@ -23,8 +23,8 @@
 //    not there: a ring fitted as a handle from another side); with depth, the points around a
 //    handle (where the track holds it, off the body's wall) in the last `turn_views` views that
 //    show them are fitted together, world frame, with the ring plane held through the body's
-//    axis and free to turn about it: a ring that turns more than `max_handle_turn_deg` with a
-//    clearly better fit (residual under 0.6 of the held one) adds `drifted` per view (a ring
+//    axis and free to turn about it: a ring that turns away (HandleOptions::max_turn_deg, with a
+//    clearly better fit: turn_residual_ratio of the held one) adds `drifted` per view (a ring
 //    leaning on a jar: each view alone may see it nearly edge-on and pass it for a handle, the
 //    views together do not); without depth, only a part behind
 //    the body and within its silhouette counts as hidden; a track not seen at all decays towards
@@ -50,6 +50,7 @@
 #include "mereo/core/image.hpp"
 #include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
+#include "mereo/features/handle.hpp"
 
 namespace mereo::cognitive {
 
@@ -71,7 +72,9 @@ struct TrackOptions {
   double depth_tolerance = 0.01;        ///< visibility: a surface within this of a part's is the part, metres
   double visible_pixels = 300;          ///< a part this large in the image (pixels) gives a full contradiction
   int turn_views = 8;                   ///< a handle's surroundings: the last views fitted together
-  double max_handle_turn_deg = 25.0;    ///< ... a ring turned further from the body's axis is no handle
+  /// What a handle is (its ranges; max_turn_deg: a ring the views together turn further from the
+  /// body's axis is no handle): the detector's own (features/handle.hpp).
+  features::HandleOptions handle;
   double process_noise = 0.0003;        ///< sigma per frame of a part's place and height (its visible extent)
   double shape_noise = 0.00002;         ///< ... of its radii: a rigid object's do not change, views average
 
@@ -81,17 +84,26 @@ struct TrackOptions {
 
 inline const Fields<TrackOptions>& TrackOptions::fields() {
   using O = TrackOptions;
-  static const Fields<O> f = {
+  static const Fields<O> head = {
       field("max_distance", &O::max_distance, 0.001, 1, "association: body centres, metres"),
       field("part_tolerance", &O::part_tolerance, 0.001, 1, "a part stays put relative to its body"),
       field("visible_pixels", &O::visible_pixels, 1, 1e6,
             "a missing part this large in the image (pixels, where the frame's depth shows its place) is a full "
             "contradiction"),
-      field("max_handle_turn_deg", &O::max_handle_turn_deg, 0, 90,
-            "the last views around a handle fitted together: a ring turned further from the body's axis is no handle"),
-      field("max_missed", &O::max_missed, 1, 100000, "frames unseen before a track is dropped"),
-      field("report", &O::report, 0, 1, "probability at which a track is reported"),
   };
+  // the handle's turn (features/handle.hpp), as the views together see it
+  static const Fields<O> f = [] {
+    Fields<O> out = head;
+    for (auto g : nested(&O::handle, features::HandleOptions::fields()))
+      if (g.name == "max_handle_turn_deg") {
+        g.doc = "the last views around a handle fitted together: a ring turned further from the body's axis is no handle";
+        out.push_back(std::move(g));
+      }
+    return concat<O>(out, {
+        field("max_missed", &O::max_missed, 1, 100000, "frames unseen before a track is dropped"),
+        field("report", &O::report, 0, 1, "probability at which a track is reported"),
+    });
+  }();
   return f;
 }
 
@@ -104,10 +116,25 @@ struct Observation {
   std::vector<int> segments;                           ///< their indices in the frame's segments
 };
 
+/// A part's Kalman filter (static model: a prediction only adds process noise): its class's
+/// tracked parameters (mereo/shapes: the centre, then sizes; world frame) and their variances.
+struct PartFilter {
+  Eigen::VectorXd x, P;
+  std::vector<bool> size;  ///< radii, with the slow shape noise; others move with the view
+  /// Starts from a measurement `m` with `variance` on each parameter.
+  void reset(const Segment& m, double variance);
+  /// Fuses measurement `m` with variance `r`; `along_axis` (a cylinder's unit axis): the centre's
+  /// place along it follows the visible extent, so the newest view's is taken, only its place
+  /// across the axis is filtered.
+  void update(const Segment& m, double r, double process_noise, double shape_noise,
+              const std::optional<Eigen::Vector3d>& along_axis);
+};
+
 /// A part as the track holds it: fused parameters in the world frame.
 struct TrackedPart {
   std::string role;
   Segment world;
+  PartFilter filter;
   int segment = -1;  ///< its segment in the last frame, -1 when not seen there
   Segment observed;  ///< as the last supporting view measured it (world frame, unfiltered)
   /// Where the last view that drifted saw it, relative to the body (world frame); a next view
@@ -128,8 +155,6 @@ struct Track {
   bool seen = false;  ///< its body was observed in the last frame
   double score = 0.0; ///< the last supporting observation's score
   std::vector<TrackedPart> parts;
-  /// Kalman state: per part, [point x y z, radius, minor radius, height] (world) and variances.
-  Eigen::VectorXd x, P;
 
   double probability() const;
   const TrackedPart* part(const std::string& role) const;
@@ -150,6 +175,11 @@ class Tracker {
   const std::vector<std::pair<int, int>>& dropped() const { return dropped_; }
 
  private:
+  /// The steps of update() after each track's association, evidence and filter update: drop
+  /// the tracks unseen too long; start tracks from the accepted observations no track took.
+  void prune();
+  void spawn(const std::vector<Observation>& world, const std::vector<bool>& used, const std::vector<double>& distance);
+
   TrackOptions options_;
   std::vector<Track> tracks_;
   std::vector<std::pair<int, int>> dropped_;
@@ -182,8 +212,8 @@ std::vector<Eigen::Vector3d> points_around(const Segment& part, const Segment& b
                                            const Intrinsics& intrinsics, double margin = 0.005,
                                            std::size_t max_points = 400);
 
-/// A segment moved by a pose (points transformed, axes rotated).
-Segment transformed(const Segment& s, const Pose& T);
+/// A segment moved by a pose (points transformed, axes rotated): Segment::transformed.
+inline Segment transformed(const Segment& s, const Pose& T) { return s.transformed(T); }
 
 /// The tracks at or above `report` probability as a JSON array of objects in the camera frame
 /// of `camera_to_world` (DESIGN.md's "objects", with "track" = the track's id, "probability",

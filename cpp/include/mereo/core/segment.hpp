@@ -8,40 +8,86 @@
 
 #include <Eigen/Core>
 
+#include "mereo/shapes/table.hpp"
+
 namespace mereo {
 
-enum class PrimitiveClass { Plane, Cylinder, Torus, Sphere, Line, Arc };
-
-/// "plane", "cylinder", "torus", "sphere", "line", "arc" (the names of the JSON output).
-const char* to_string(PrimitiveClass c);
-/// The class of a name; throws std::invalid_argument listing the known names.
-PrimitiveClass primitive_class(const std::string& name);
-
-/// One segment: a primitive's parameters, its inlier pixels and attributes.
-///  - plane:    `axis` = unit normal (towards the camera), `d` with axis.dot(x) + d = 0,
-///              `point` = centroid of the inliers;
-///  - cylinder: `point` on the axis at the middle of the visible extent, unit `axis`, `radius`,
-///              `height` = visible extent along the axis;
-///  - torus:    `point` = centre, `axis` = unit normal of the ring plane, `radius` = major radius,
-///              `minor_radius`;
-///  - sphere:   `point` = centre, `radius`.
+/// One segment: its class's parameter block (`shape`: one of the shape table's classes, see
+/// mereo/shapes/), its inlier pixels and attributes. The generic functions below forward to the
+/// class; code that needs one class's parameters asks for it: `s.as<shapes::Cylinder>().radius`.
 struct Segment {
   int id = -1;
-  PrimitiveClass cls = PrimitiveClass::Plane;
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
-  double d = 0.0;
-  double radius = 0.0;
-  double minor_radius = 0.0;
-  double height = 0.0;
+  Geometry shape;                   ///< the class and its parameters
   std::size_t inliers = 0;          ///< number of inlier pixels
   double residual = 0.0;            ///< RMS point-to-surface distance of the inliers, metres
   Eigen::Vector3f mean_color = Eigen::Vector3f::Zero();  ///< RGB in [0, 1]
   double hue = 0.0;                 ///< degrees [0, 360) of mean_color
-  /// Cylinder, sphere, torus: seen from inside (its pixels' normals point towards the axis or
-  /// centre: a mug's inner wall, a bowl's inside), not from outside.
+  /// Solid shapes: seen from inside (its pixels' normals point towards the axis or centre: a
+  /// mug's inner wall, a bowl's inside), not from outside.
   bool inward = false;
   std::vector<int> pixels;          ///< inlier pixel indices v * width + u
+
+  Segment() = default;
+  explicit Segment(Geometry g) : shape(std::move(g)) {}
+
+  PrimitiveClass cls() const { return PrimitiveClass::at(shape.index()); }
+  const char* class_name() const { return cls().name(); }
+  template <class S>
+  bool is() const { return std::holds_alternative<S>(shape); }
+  template <class S>
+  const S& as() const { return std::get<S>(shape); }
+  template <class S>
+  S& as() { return std::get<S>(shape); }
+  template <class S>
+  const S* get_if() const { return std::get_if<S>(&shape); }
+  template <class F>
+  decltype(auto) visit(F&& f) const { return std::visit(std::forward<F>(f), shape); }
+  template <class F>
+  decltype(auto) visit(F&& f) { return std::visit(std::forward<F>(f), shape); }
+
+  // ---- the table's functions (see mereo/shapes/shape.hpp) ----
+  Eigen::Vector3d origin() const { return visit([](const auto& s) { return s.origin(); }); }
+  std::optional<Eigen::Vector3d> direction() const { return visit([](const auto& s) { return s.direction(); }); }
+  double size() const { return visit([](const auto& s) { return s.size(); }); }
+  double extent() const { return visit([](const auto& s) { return s.extent(); }); }
+  double half_extent_along(const Eigen::Vector3d& dir) const {
+    return visit([&](const auto& s) { return s.half_extent_along(dir); });
+  }
+  double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* normal = nullptr) const {
+    return visit([&](const auto& s) { return s.signed_distance(x, normal); });
+  }
+  double surface_distance(const Eigen::Vector3d& x) const {
+    return visit([&](const auto& s) { return s.surface_distance(x); });
+  }
+  bool solid() const { return visit([](const auto& s) { return std::decay_t<decltype(s)>::solid; }); }
+  bool curved() const { return visit([](const auto& s) { return std::decay_t<decltype(s)>::curved; }); }
+  /// A class-specific model attribute ("radius", "height", "minor_radius", "aspect", "d"...);
+  /// nullopt when the class has none of that name.
+  std::optional<double> attribute(const std::string& name) const {
+    return visit([&](const auto& s) { return s.attribute(name); });
+  }
+  /// The same segment moved by a rigid transform (camera to world and back).
+  Segment transformed(const Eigen::Isometry3d& T) const {
+    Segment out = *this;
+    out.visit([&](auto& s) { s.transform(T); });
+    return out;
+  }
+  /// The class's JSON fields, in the contract's order (mereo/shapes/*.hpp).
+  shapes::FieldList fields() const {
+    shapes::FieldList out;
+    visit([&](const auto& s) { s.fields(out, inward); });
+    return out;
+  }
+  /// Sets a field by its JSON name (or an alias, e.g. a torus's "radius" for "major_radius");
+  /// false when the class has no such field or the value is of another kind.
+  bool set_field(const std::string& name, const shapes::FieldValue& v) {
+    return visit([&](auto& s) { return s.set_field(name, v); });
+  }
+  shapes::Outline outline() const {
+    shapes::Outline out;
+    visit([&](const auto& s) { s.outline(out); });
+    return out;
+  }
 };
 
 }  // namespace mereo

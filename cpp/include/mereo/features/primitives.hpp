@@ -3,8 +3,8 @@
 //
 // The method follows Schnabel, Wahl and Klein, "Efficient RANSAC for Point-Cloud Shape
 // Detection", Computer Graphics Forum 26(2), 2007, adapted to organized frames:
-//  - minimal sets that use the normals: plane 1 point, sphere 2, cylinder 2, torus 4
-//    (the tube radius is a root of the cubic that makes the four tube centres coplanar);
+//  - minimal sets that use the normals (each class's from_sample: plane 1 point, sphere 2,
+//    cylinder 2, torus 4);
 //  - sampling localized in image neighbourhoods (the organized frame's stand-in for the
 //    paper's octree cells): a seed pixel, the others within a window whose metric size is
 //    options.sample_radius at the seed's depth;
@@ -36,6 +36,7 @@
 #include "mereo/core/image.hpp"
 #include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
+#include "mereo/features/handle.hpp"
 
 namespace mereo::features {
 
@@ -43,9 +44,9 @@ namespace mereo::features {
 /// table top at 0.5-2 m.
 struct DetectOptions {
   std::uint64_t seed = 0;            ///< the only source of randomness
-  /// Which classes to look for (Plane, Cylinder, Torus, Sphere; others are ignored).
-  std::vector<PrimitiveClass> classes{PrimitiveClass::Plane, PrimitiveClass::Cylinder,
-                                      PrimitiveClass::Torus, PrimitiveClass::Sphere};
+  /// Which classes to look for (those of the shape table with a minimal set; others are ignored).
+  std::vector<PrimitiveClass> classes{PrimitiveClass::of<shapes::Plane>(), PrimitiveClass::of<shapes::Cylinder>(),
+                                      PrimitiveClass::of<shapes::Torus>(), PrimitiveClass::of<shapes::Sphere>()};
   double epsilon = 0.006;            ///< max point-to-surface distance of an inlier, metres,
                                      ///< at 1 m; grows with depth like Kinect noise (see
                                      ///< epsilon_growth)
@@ -64,18 +65,9 @@ struct DetectOptions {
   double min_minor_radius = 0.003;   ///< torus tube radius range, metres
   double max_minor_radius = 0.02;
   double max_major_radius = 0.08;    ///< torus ring radius upper bound, metres
-  /// After the bottom-up pass, look for a torus (handle) next to every cylinder found
-  /// (find_primitive with a ball around the cylinder); only when Torus is in `classes`, and
-  /// then tori are looked for there only, not bottom-up.
-  bool handles_near_cylinders = true;
-  /// ... next to the cylinders whose radius lies in this range only (the bodies that could
-  /// have a handle; a goal such as "mug" narrows it to its body's range).
-  double handle_body_min_radius = 0.02;
-  double handle_body_max_radius = 0.08;
-  /// A handle's ring plane holds its body's axis: a torus that fits clearly better with its
-  /// plane turned more than this about the axis (a ring leaning on a jar) is not a handle;
-  /// degrees, 90 = no check. (Synthetic handles turn at most ~11 deg, leaning rings 18-70.)
-  double max_handle_turn_deg = 25.0;
+  /// The model-driven search for handles next to the cylinders found bottom-up (tori then are
+  /// looked for there only, when Torus is in `classes`), and every constant of what a handle is.
+  HandleOptions handle;
   /// Optional region of interest: pixels with a non-zero value are used (same size as the
   /// cloud); empty = all pixels.
   Image<std::uint8_t, 1> roi;
@@ -101,7 +93,7 @@ struct DetectOptions {
 
 inline const Fields<DetectOptions>& DetectOptions::fields() {
   using O = DetectOptions;
-  static const Fields<O> f = {
+  static const Fields<O> f = concat<O>({
       field("seed", &O::seed, 0, 1e15, "the only source of randomness"),
       list("classes", &O::classes, [](PrimitiveClass c) { return to_string(c); }, primitive_class,
            "classes to look for"),
@@ -110,14 +102,9 @@ inline const Fields<DetectOptions>& DetectOptions::fields() {
       field("min_support", &O::min_support, 10, 1e7, "fewest pixels of a segment"),
       field("min_support_torus", &O::min_support_torus, 10, 1e7, "fewest pixels of a torus"),
       field("max_primitives", &O::max_primitives, 1, 10000, "at most this many segments"),
-      field("handles_near_cylinders", &O::handles_near_cylinders, "look for a torus next to every cylinder"),
-      field("handle_body_min_radius", &O::handle_body_min_radius, 0, 1, "... whose radius is at least this, metres"),
-      field("handle_body_max_radius", &O::handle_body_max_radius, 0, 1, "... and at most this"),
       field("fit_along_rays", &O::fit_along_rays,
             "fit cylinders and spheres along the rays (depth noise along them); false: by geometric distance"),
-      field("max_handle_turn_deg", &O::max_handle_turn_deg, 0, 90,
-            "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"),
-  };
+  }, nested(&O::handle, HandleOptions::fields()));
   return f;
 }
 
@@ -168,8 +155,7 @@ std::vector<Segment> find_primitive(const Cloud& cloud, const NormalMap& normals
                                     const DetectOptions& options = {},
                                     const ColorImage* color = nullptr, int max_count = 1);
 
-/// Distance (metres, >= 0) of point `x` to the surface of segment `s` (plane, cylinder,
-/// torus or sphere; unbounded surfaces).
+/// Distance (metres, >= 0) of point `x` to the unbounded surface of segment `s`.
 double surface_distance(const Segment& s, const Eigen::Vector3d& x);
 
 /// Least-squares refit of a segment's parameters to points (Levenberg-Marquardt, starting from

@@ -8,12 +8,14 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "mereo/core/frame.hpp"
+#include "mereo/core/segment.hpp"
 
 namespace mereo::synthetic {
 
@@ -46,6 +48,9 @@ struct Shape {
 
   /// The same shape in another frame (points move, directions rotate).
   Shape transformed(const Pose& T) const;
+  /// The segment of exactly this shape, for a class of the shape table (mereo/shapes/table.hpp);
+  /// nullopt for the renderer's own ("disc", "box").
+  std::optional<Segment> segment() const;
 };
 
 /// One part of a rendered object (a mug's "body", "inside", "rim", "bottom", "handle").

@@ -1,0 +1,122 @@
+// mereo/features/handle.hpp: what a handle is, in one place. The detector's model-driven search
+// for a mug's handle next to its body, the tracker's check of a handle across views and the
+// landmarks' rings all read HandleOptions.
+//
+// A handle is, today, a torus whose ring plane holds its body's axis, outside the body's wall and
+// within its height (Kasprzak et al.'s handle-on-body function; the mug model's ranges are in
+// graphs/models/tabletop.yaml). The search (features/primitives.hpp: DetectOptions::handle):
+//  1. the usable pixels near the body between its wall (radius + half the noise) and `max_reach`
+//     beyond it, within its visible height less `foot_margin` (the table's edge pixels at its foot
+//     are not a handle), are binned by azimuth about the axis (`bin_deg`);
+//  2. the best azimuth windows (`window_deg`, at most `max_windows` that do not overlap) give a
+//     ring plane each (through the axis, at the circular mean azimuth of their pixels);
+//  3. a torus starting at the window's extent (tube `start_minor_radius`, ring radius = half its
+//     height span, at least `min_start_radius`, outer edge at its farthest pixel) is refined by
+//     Levenberg-Marquardt on the window's pixels standing at least `min_standoff` off the wall
+//     (a geometric fit: the normals of a noisy 1 cm tube are poor), the ring first with the tube
+//     held, trimmed `trim_rounds` times to the points within `trim_factor` epsilon, then the tube
+//     too if it stays plausible;
+//  4. the best hypothesis by its pixels (within epsilon, normal not turned past `min_facing_cos`,
+//     largest group connected across gaps of `pixel_gap` pixels) is refined `refit_rounds` times;
+//  5. it is no handle when its ring would rather turn its plane away from the body's axis (more
+//     than `max_turn_deg`, with a residual under `turn_residual_ratio` of the held one: a ring
+//     leaning on a jar).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mereo/core/options.hpp"
+#include "mereo/core/segment.hpp"
+
+namespace mereo::features {
+
+/// Every constant of what a handle is and how it is searched for.
+struct HandleOptions {
+  /// Look for a handle next to every cylinder that could be a body (top-down), and not for tori
+  /// bottom-up.
+  bool search_near_cylinders = true;
+  double body_min_radius = 0.02;      ///< ... whose radius lies in this range (a goal narrows it)
+  double body_max_radius = 0.08;
+  double region_margin = 0.04;        ///< the search ball: the body's extent plus this, metres
+  double small_cylinder_ratio = 0.5;  ///< a cylinder under this share of the body's radius in the
+                                      ///< ball may be a wide handle's side: its pixels are offered
+  double max_reach = 0.07;            ///< a handle's pixels stand at most this far off the wall
+  double foot_margin = 0.003;         ///< ... and this far above the body's foot
+  double bin_deg = 5.0;               ///< azimuth bins about the body's axis
+  double window_deg = 25.0;           ///< the window of bins a handle fills
+  int max_windows = 2;                ///< hypotheses (non-overlapping windows) per body
+  double fit_half_width_deg = 15.0;   ///< the pixels a hypothesis is fitted to, about its azimuth
+  double min_standoff = 0.008;        ///< ... that stand off the wall at least this (or epsilon)
+  double start_minor_radius = 0.006;  ///< the tube radius a fit starts from
+  double min_start_radius = 0.012;    ///< the least ring radius a fit starts from
+  int trim_rounds = 2;                ///< ring refits to the points within trim_factor * epsilon
+  double trim_factor = 2.0;
+  int refit_rounds = 2;               ///< refits of the best hypothesis to its pixels
+  double min_facing_cos = -0.5;       ///< a handle pixel's normal within 120 deg of the tube's
+  int pixel_gap = 2;                  ///< a handle's pixels connect across gaps of this (noise)
+  double normal_deviation_factor = 2; ///< the search's normal deviation, times the detector's
+  double min_minor_radius = 0.0015;   ///< tube radius range of a handle (a noisy tube reads thin)
+  double max_minor_radius = 0.012;
+  double min_major_radius = 0.01;     ///< ring radius range of a handle (the tracker's check)
+  double max_major_radius = 0.08;
+  /// A ring that fits clearly better (residual under turn_residual_ratio of the held fit) with its
+  /// plane turned more than this about the body's axis is no handle; degrees, 90 = no check.
+  double max_turn_deg = 25.0;
+  double turn_residual_ratio = 0.6;
+
+  /// A handle's tube and ring radii are within the ranges (the tracker's refits).
+  bool plausible(const Segment& t) const;
+
+  /// The options the detect_primitives and track_objects nodes and Python expose (the rest are
+  /// the definition of a handle, kept at their defaults).
+  static const Fields<HandleOptions>& fields();
+};
+
+inline const Fields<HandleOptions>& HandleOptions::fields() {
+  using O = HandleOptions;
+  static const Fields<O> f = {
+      field("handles_near_cylinders", &O::search_near_cylinders, "look for a torus next to every cylinder"),
+      field("handle_body_min_radius", &O::body_min_radius, 0, 1, "... whose radius is at least this, metres"),
+      field("handle_body_max_radius", &O::body_max_radius, 0, 1, "... and at most this"),
+      field("max_handle_turn_deg", &O::max_turn_deg, 0, 90,
+            "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"),
+  };
+  return f;
+}
+
+/// A handle's torus refined to `points` about `body` by Levenberg-Marquardt on the geometric
+/// distance, from `t0`, with its ring plane held through the body's axis (5 parameters: azimuth,
+/// height, distance of the centre from the axis, ring radius, tube radius). Only the side of a
+/// thin tube that faces the camera is seen; a free fit can then trade a tilted ring plane for a
+/// fat tube, while with the plane held the tube radius is how far the points stand out of it.
+/// With `fix_minor`, the tube radius stays t0's (on a far, noisy handle only the ring is well
+/// determined). `body` is a cylinder, `t0` a torus.
+Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
+                     bool fix_minor = false);
+
+/// refit_handle with the tube free when that fit passes `plausible`, else with the tube held (a
+/// fat tube can swallow a turned ring).
+template <class Plausible>
+Segment refit_handle_or_hold(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
+                             Plausible plausible) {
+  Segment free_fit = refit_handle(body, t0, points);
+  return plausible(free_fit) ? free_fit : refit_handle(body, t0, points, true);
+}
+
+/// How a handle's ring plane would rather turn about the body's axis (0: it holds the axis, as a
+/// handle's does; a ring leaning on a jar is turned): the fit of refit_handle (tube held) with the
+/// turn free as well, against the fit with the plane held.
+struct HandleTurn {
+  double turn_deg = 0.0;    ///< the best turn, -90..90
+  double rms_held = 0.0;    ///< the residual (metres) with the plane through the axis
+  double rms_turned = 0.0;  ///< with the plane turned
+  /// The ring turns away from the axis, clearly (HandleOptions::max_turn_deg, turn_residual_ratio).
+  bool turned_away(const HandleOptions& o) const {
+    return std::abs(turn_deg) > o.max_turn_deg && rms_turned < o.turn_residual_ratio * rms_held;
+  }
+};
+HandleTurn handle_turn(const Segment& body, const Segment& t, const std::vector<Eigen::Vector3d>& points);
+
+}  // namespace mereo::features

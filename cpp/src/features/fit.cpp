@@ -1,0 +1,103 @@
+// Least-squares refits of the shape table's classes (see fit.hpp).
+#include "features/fit.hpp"
+
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace mereo::features::detail {
+
+void levenberg_marquardt(Eigen::VectorXd& x, int N,
+                         const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& f) {
+  const int P = int(x.size());
+  Eigen::VectorXd r(N), r2(N);
+  f(x, r);
+  double cost = r.squaredNorm(), lambda = 1e-3;
+  Eigen::MatrixXd J(N, P);
+  for (int it = 0; it < 30; ++it) {
+    for (int k = 0; k < P; ++k) {
+      Eigen::VectorXd xp = x;
+      const double h = 1e-6 * std::max(1.0, std::abs(x(k)));
+      xp(k) += h;
+      f(xp, r2);
+      J.col(k) = (r2 - r) / h;
+    }
+    const Eigen::MatrixXd A = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    bool improved = false;
+    for (int tries = 0; tries < 8 && !improved; ++tries) {
+      Eigen::MatrixXd Ad = A;
+      Ad.diagonal() *= (1 + lambda);
+      const Eigen::VectorXd step = Ad.ldlt().solve(-g);
+      const Eigen::VectorXd xn = x + step;
+      f(xn, r2);
+      const double c2 = r2.squaredNorm();
+      if (std::isfinite(c2) && c2 < cost) {
+        x = xn, r = r2, lambda *= 0.3;
+        improved = cost - c2 > 1e-14 * cost;
+        cost = c2;
+        if (!improved) break;
+        improved = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) break;
+  }
+}
+
+void set_residual(Segment& s, const std::vector<Eigen::Vector3d>& points) {
+  double ss = 0;
+  for (const auto& p : points) {
+    const double d = s.signed_distance(p);
+    ss += d * d;
+  }
+  s.residual = points.empty() ? 0.0 : std::sqrt(ss / double(points.size()));
+}
+
+const std::vector<Eigen::Vector3d>& subsample_into(const std::vector<Eigen::Vector3d>& points,
+                                                   std::vector<Eigen::Vector3d>& buffer, std::size_t max_points) {
+  if (points.size() <= max_points) return points;
+  buffer.clear();
+  const double stride = double(points.size()) / double(max_points);
+  for (std::size_t k = 0; k < max_points; ++k) buffer.push_back(points[std::size_t(k * stride)]);
+  return buffer;
+}
+
+double range_residual(const Segment& s, const Eigen::Vector3d& x) {
+  return s.visit([&](const auto& g) { return g.range_residual(x); });
+}
+
+Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& points, Residual residual) {
+  Segment s = s0;
+  if (points.size() < 4) return s;
+  s.visit([&](auto& g0) {
+    using S = std::decay_t<decltype(g0)>;
+    if (g0.fit_direct(points)) return;
+    const S start = g0;
+    Eigen::VectorXd x = start.pack();
+    if (x.size() == 0) return;  // no iterative refit for this class
+    std::vector<Eigen::Vector3d> buffer;
+    const auto& pts = subsample_into(points, buffer, kFitPoints);
+    const int N = int(pts.size());
+    levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+      S t = start;
+      t.unpack(v);
+      if (residual == Residual::AlongRay)
+        for (int i = 0; i < N; ++i) r(i) = t.range_residual(pts[i]);
+      else
+        for (int i = 0; i < N; ++i) r(i) = t.signed_distance(pts[i]);
+    });
+    g0 = start;
+    g0.unpack(x);
+  });
+  set_residual(s, points);
+  return s;
+}
+
+void set_extent(Segment& s, const std::vector<Eigen::Vector3d>& points) {
+  if (points.empty()) return;
+  s.visit([&](auto& g) { g.set_extent(points); });
+}
+
+}  // namespace mereo::features::detail

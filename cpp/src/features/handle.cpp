@@ -1,0 +1,302 @@
+// The handle module (see mereo/features/handle.hpp): the ring fits about a body and the
+// model-driven search next to it.
+#include "mereo/features/handle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+
+#include "features/fit.hpp"
+#include "features/pixels.hpp"
+
+namespace mereo::features {
+
+using shapes::Cylinder;
+using shapes::Torus;
+
+bool HandleOptions::plausible(const Segment& t) const {
+  const auto* r = t.get_if<Torus>();
+  return r && r->minor_radius >= min_minor_radius && r->minor_radius <= max_minor_radius &&
+         r->major_radius >= min_major_radius && r->major_radius <= max_major_radius;
+}
+
+namespace {
+
+/// A handle's torus from (azimuth, height, distance from the axis, ring radius, tube radius[,
+/// turn]) about `body`: the ring plane holds the body's axis (turned about it by the sixth value).
+Torus handle_torus(const Cylinder& body, const Eigen::VectorXd& v) {
+  const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  const Eigen::Vector3d u = std::cos(v(0)) * e1 + std::sin(v(0)) * e2;
+  Torus t;
+  t.center = body.point + a * v(1) + u * v(2);
+  t.normal = a.cross(u).normalized();
+  t.major_radius = v(3);
+  t.minor_radius = v(4);
+  if (v.size() > 5) t.normal = Eigen::AngleAxisd(v(5), a) * t.normal;  // the ring plane turned about the axis
+  return t;
+}
+
+/// The handle fit's residuals: a point is seen on the side of the tube that faces the camera;
+/// one that the fit would put on the far side costs up to a tube's diameter more (a thin tube
+/// can otherwise be fitted in front of the points as well as behind them).
+void handle_residuals(const Torus& t, const std::vector<Eigen::Vector3d>& pts, Eigen::VectorXd& r) {
+  for (int i = 0; i < int(pts.size()); ++i) {
+    Eigen::Vector3d sn;
+    const double d = t.signed_distance(pts[std::size_t(i)], &sn);
+    const double away = -sn.dot(-pts[std::size_t(i)].normalized());
+    r(i) = d + 2 * t.minor_radius * std::max(0.0, away);
+  }
+}
+
+/// (azimuth, height, distance from the axis, ring radius, tube radius) of a torus about `body`.
+Eigen::VectorXd handle_params(const Cylinder& body, const Torus& t) {
+  const Eigen::Vector3d a = body.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  const Eigen::Vector3d q = t.center - body.point;
+  const double h = a.dot(q);
+  const Eigen::Vector3d radial = q - a * h;
+  Eigen::VectorXd x(5);
+  x << std::atan2(radial.dot(e2), radial.dot(e1)), h, radial.norm(), t.major_radius, t.minor_radius;
+  return x;
+}
+
+}  // namespace
+
+HandleTurn handle_turn(const Segment& body_segment, const Segment& t_segment, const std::vector<Eigen::Vector3d>& points) {
+  HandleTurn out;
+  if (points.size() < 6) return out;
+  const Cylinder& body = body_segment.as<Cylinder>();
+  const Torus& t = t_segment.as<Torus>();
+  std::vector<Eigen::Vector3d> buffer;
+  const auto& pts = detail::subsample_into(points, buffer, detail::kFitPoints);
+  const int N = int(pts.size());
+  const Eigen::VectorXd x0 = handle_params(body, t);
+  Eigen::VectorXd r(N);
+  handle_residuals(t, pts, r);
+  out.rms_held = std::sqrt(r.squaredNorm() / N);
+  out.rms_turned = out.rms_held;
+  // the ring and its turn, the tube held; from no turn and from a turn either way (a local fit)
+  for (double start : {0.0, 40.0, -40.0}) {
+    Eigen::VectorXd y(5);
+    y << x0.head<4>(), start * M_PI / 180.0;
+    detail::levenberg_marquardt(y, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& res) {
+      Eigen::VectorXd full(6);
+      full << v.head<4>(), x0(4), v(4);
+      handle_residuals(handle_torus(body, full), pts, res);
+    });
+    Eigen::VectorXd full(6);
+    full << y.head<4>(), x0(4), y(4);
+    handle_residuals(handle_torus(body, full), pts, r);
+    const double rms = std::sqrt(r.squaredNorm() / N);
+    if (rms < out.rms_turned) out.rms_turned = rms, out.turn_deg = std::remainder(y(4), M_PI) * 180.0 / M_PI;
+  }
+  return out;
+}
+
+Segment refit_handle(const Segment& body_segment, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
+                     bool fix_minor) {
+  const Cylinder& body = body_segment.as<Cylinder>();
+  Eigen::VectorXd x = handle_params(body, t0.as<Torus>());
+  if (points.size() >= 5) {
+    std::vector<Eigen::Vector3d> buffer;
+    const auto& pts = detail::subsample_into(points, buffer, detail::kFitPoints);
+    const int N = int(pts.size());
+    Eigen::VectorXd y = fix_minor ? Eigen::VectorXd(x.head<4>()) : x;
+    detail::levenberg_marquardt(y, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+      Eigen::VectorXd full = x;
+      full.head(v.size()) = v;
+      handle_residuals(handle_torus(body, full), pts, r);
+    });
+    x.head(y.size()) = y;
+  }
+  Segment s(handle_torus(body, x));
+  s.id = t0.id, s.pixels = t0.pixels, s.inliers = t0.inliers;
+  detail::set_residual(s, points);
+  return s;
+}
+
+namespace detail {
+namespace {
+
+/// Handle hypotheses next to a body (steps 1-3 of handle.hpp). Each plausible torus is a
+/// candidate scored by its pixels within epsilon. Deterministic.
+std::vector<Candidate> handle_hypotheses(const Pixels& f, const Cylinder& body_shape, const Segment& body,
+                                         const std::vector<int>& region, int min_support, const HandleOptions& h,
+                                         const shapes::Limits& limits) {
+  const Eigen::Vector3d a = body_shape.axis.normalized(), e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  struct Near {
+    int i;
+    double theta, rho;
+  };
+  std::vector<Near> pts;
+  for (int i : region) {
+    if (!f.free[i]) continue;
+    const Eigen::Vector3d x = f.p(i) - body_shape.point;
+    const double along = a.dot(x);
+    const Eigen::Vector3d radial = x - a * along;
+    const double rho = radial.norm();
+    if (rho <= body_shape.radius + 0.5 * f.eps(f.p(i).z()) || rho > body_shape.radius + h.max_reach) continue;
+    if (std::abs(along) > 0.5 * body_shape.height - h.foot_margin) continue;  // a handle stays off the table
+    pts.push_back({i, std::atan2(radial.dot(e2), radial.dot(e1)), rho});
+  }
+  std::vector<Candidate> out;
+  if (int(pts.size()) < min_support) return out;
+  const int bins = std::max(4, int(std::lround(360.0 / h.bin_deg)));
+  const int window_bins = std::max(1, int(std::lround(h.window_deg / h.bin_deg)));
+  std::vector<int> hist(bins, 0);
+  for (const auto& q : pts) hist[std::min(bins - 1, int((q.theta + M_PI) / (2 * M_PI) * bins))]++;
+  auto window = [&](int b) {
+    int sum = 0;
+    for (int k = -window_bins / 2; k <= window_bins / 2; ++k) sum += hist[(b + k + bins) % bins];
+    return sum;
+  };
+  std::vector<int> peaks;
+  for (int pass = 0; pass < h.max_windows; ++pass) {
+    int best = -1, best_sum = 0;
+    for (int b = 0; b < bins; ++b) {
+      bool clear = true;
+      for (int p : peaks) clear = clear && std::min((b - p + bins) % bins, (p - b + bins) % bins) > window_bins;
+      if (clear && window(b) > best_sum) best = b, best_sum = window(b);
+    }
+    if (best < 0 || best_sum < min_support) break;
+    peaks.push_back(best);
+  }
+  for (int peak : peaks) {
+    const double theta0 = (peak + 0.5) / bins * 2 * M_PI - M_PI;
+    std::vector<Eigen::Vector3d> sel;
+    double sc = 0, ss = 0;
+    for (const auto& q : pts) {
+      const double d = std::remainder(q.theta - theta0, 2 * M_PI);
+      // the fit starts from the part of the handle that stands off the wall (a finger's width):
+      // next to the wall, the wall's own noisy pixels would pull it
+      if (std::abs(d) > h.fit_half_width_deg * kDeg ||
+          q.rho < body_shape.radius + std::max(h.min_standoff, f.eps(f.p(q.i).z())))
+        continue;
+      sel.push_back(f.p(q.i));
+      sc += std::cos(q.theta), ss += std::sin(q.theta);
+    }
+    if (int(sel.size()) < min_support) continue;
+    const double theta = std::atan2(ss, sc);
+    const Eigen::Vector3d u = std::cos(theta) * e1 + std::sin(theta) * e2;
+    double hmin = INFINITY, hmax = -INFINITY, rmax = 0;
+    for (const auto& x : sel) {
+      const double along = a.dot(x - body_shape.point);
+      hmin = std::min(hmin, along), hmax = std::max(hmax, along);
+      rmax = std::max(rmax, u.dot(x - body_shape.point));
+    }
+    Torus t0;
+    t0.normal = a.cross(u).normalized();
+    t0.minor_radius = h.start_minor_radius;  // (with the ring plane held, 4, 6 and 8 mm starts converge alike)
+    t0.major_radius = std::max(h.min_start_radius, 0.5 * (hmax - hmin) - t0.minor_radius);
+    t0.center = body_shape.point + a * (0.5 * (hmin + hmax)) +
+                u * std::max(body_shape.radius, rmax - t0.minor_radius - t0.major_radius);
+    // the ring first, with the tube radius held (trimmed), then everything if the tube radius
+    // stays within the handle's range
+    Segment t = refit_handle(body, Segment(t0), sel, true);
+    std::vector<Eigen::Vector3d> kept;
+    for (int round = 0; round < h.trim_rounds; ++round) {
+      kept.clear();
+      for (const auto& x : sel)
+        if (std::abs(t.signed_distance(x)) <= h.trim_factor * f.eps(x.z())) kept.push_back(x);
+      if (int(kept.size()) < min_support) break;
+      t = refit_handle(body, t, kept, true);
+    }
+    auto ok = [&](const Segment& s) { return s.as<Torus>().plausible(limits); };
+    if (int(kept.size()) >= min_support) {
+      const Segment free_fit = refit_handle(body, t, kept);
+      if (ok(free_fit)) t = free_fit;
+    }
+    if (!ok(t)) continue;
+    int score = 0;
+    for (const auto& x : sel) score += std::abs(t.signed_distance(x)) <= f.eps(x.z());
+    if (score >= min_support) out.push_back({t, -1, double(score)});
+  }
+  return out;
+}
+
+/// The pixels of a handle torus (step 4 of handle.hpp): of the usable pixels in `region`, those
+/// within epsilon whose normal faces out of the tube (a tube of a few millimetres is about as
+/// thick as the normals' window, so its normals are too poor for the usual deviation), the
+/// largest group connected across gaps of `pixel_gap` pixels (noise leaves holes in a band a few
+/// pixels wide).
+std::vector<int> handle_pixels(const Pixels& f, const Segment& t, const std::vector<int>& region, const HandleOptions& h) {
+  std::vector<int> fit;
+  for (int i : region)
+    if (f.free[i] && f.near_facing(t, i, h.min_facing_cos)) fit.push_back(i);
+  // label the connected groups among `fit` (a small set: a map from pixel to group)
+  std::vector<int> group(fit.size(), -1);
+  std::unordered_map<int, int> where;
+  for (std::size_t k = 0; k < fit.size(); ++k) where[fit[k]] = int(k);
+  int best = -1, best_size = 0, groups = 0;
+  const int gap = h.pixel_gap;
+  for (std::size_t k = 0; k < fit.size(); ++k) {
+    if (group[k] >= 0) continue;
+    int size = 0;
+    std::vector<int> stack{int(k)};
+    group[k] = groups;
+    while (!stack.empty()) {
+      const int m = stack.back();
+      stack.pop_back();
+      ++size;
+      const int v = fit[m] / f.W, u = fit[m] % f.W;
+      for (int dv = -gap; dv <= gap; ++dv)
+        for (int du = -gap; du <= gap; ++du) {
+          if ((!dv && !du) || v + dv < 0 || v + dv >= f.H || u + du < 0 || u + du >= f.W) continue;
+          const auto it = where.find((v + dv) * f.W + u + du);
+          if (it != where.end() && group[it->second] < 0) group[it->second] = groups, stack.push_back(it->second);
+        }
+    }
+    if (size > best_size) best = groups, best_size = size;
+    ++groups;
+  }
+  std::vector<int> out;
+  for (std::size_t k = 0; k < fit.size(); ++k)
+    if (group[k] == best) out.push_back(fit[k]);
+  return out;
+}
+
+}  // namespace
+
+std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::vector<int>& region, int min_support,
+                                    int max_count, const ColorImage* color, const shapes::Limits& limits) {
+  const HandleOptions& h = f.o.handle;
+  const Cylinder& body_shape = body.as<Cylinder>();
+  std::vector<Segment> out;
+  while (int(out.size()) < max_count) {
+    const auto cands = handle_hypotheses(f, body_shape, body, region, min_support, h, limits);
+    Segment best;
+    std::vector<int> best_pix;
+    for (const Candidate& c : cands) {
+      auto pix = handle_pixels(f, c.s, region, h);
+      if (pix.size() > best_pix.size()) best = c.s, best_pix = std::move(pix);
+    }
+    if (int(best_pix.size()) < min_support) break;
+    // refit to the pixels' points: everything if the tube stays plausible, else the ring with
+    // the tube held
+    auto points_of = [&](const std::vector<int>& pix) {
+      std::vector<Eigen::Vector3d> pts;
+      for (int i : pix) pts.push_back(f.p(i));
+      return pts;
+    };
+    auto ok = [&](const Segment& s) { return s.as<Torus>().plausible(limits); };
+    auto refit_to = [&](const std::vector<Eigen::Vector3d>& pts) { return refit_handle_or_hold(body, best, pts, ok); };
+    for (int round = 0; round < h.refit_rounds; ++round) {
+      best = refit_to(points_of(best_pix));
+      best_pix = handle_pixels(f, best, region, h);
+    }
+    if (int(best_pix.size()) < min_support || !ok(best)) break;
+    const auto pts = points_of(best_pix);
+    best = refit_to(pts);  // (the residual of the final pixels)
+    // a handle's ring plane holds the body's axis; a ring whose points would rather have it
+    // turned away (a ring leaning on a jar) is not one: the search stops there
+    if (h.max_turn_deg < 90 && handle_turn(body, best, pts).turned_away(h)) break;
+    for (int i : best_pix) f.free[i] = 0;
+    describe(f, best, std::move(best_pix), color);
+    out.push_back(std::move(best));
+  }
+  return out;
+}
+
+}  // namespace detail
+}  // namespace mereo::features

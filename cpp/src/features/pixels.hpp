@@ -1,0 +1,104 @@
+// Internal: the organized frame as the RANSAC search and the handle search read it (Pixels), and
+// the steps that turn a candidate's pixels into a segment. See features/primitives.hpp.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "features/fit.hpp"
+#include "mereo/core/image.hpp"
+#include "mereo/core/segment.hpp"
+#include "mereo/features/primitives.hpp"
+
+namespace mereo::features::detail {
+
+constexpr double kDeg = M_PI / 180.0;
+
+inline bool finite3(const float* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
+/// Everything the search reads, built once per call.
+struct Pixels {
+  const Cloud& cloud;
+  const NormalMap& normals;
+  const DetectOptions& o;
+  int H, W;
+  double focal;
+  double cos_dev;
+  std::vector<std::uint8_t> free;  // usable and not taken by a segment
+
+  Pixels(const Cloud& c, const NormalMap& n, const DetectOptions& opt);
+  /// The same frame and taken pixels under other options (a model-driven search).
+  Pixels(const Pixels& parent, const DetectOptions& opt);
+
+  Eigen::Vector3d p(int i) const {
+    const float* q = cloud.data() + 3 * std::size_t(i);
+    return Eigen::Vector3d(q[0], q[1], q[2]);
+  }
+  /// The unfiltered point of pixel i (DetectOptions::unfiltered) where it has one, else p(i).
+  Eigen::Vector3d raw(int i) const {
+    if (o.unfiltered.empty()) return p(i);
+    const float* q = o.unfiltered.data() + 3 * std::size_t(i);
+    return finite3(q) ? Eigen::Vector3d(q[0], q[1], q[2]) : p(i);
+  }
+  Eigen::Vector3d n(int i) const {
+    return Eigen::Vector3d(normals.data()[3 * i], normals.data()[3 * i + 1], normals.data()[3 * i + 2]);
+  }
+  double eps(double z) const { return o.epsilon * std::max(0.3, 1 + o.epsilon_growth * (z * z - 1)); }
+  /// +1 when pixel i's normal agrees with the outward normal of s at its closest point, -1 when it
+  /// is opposed (a concave side: a mug's inner wall), 0 for shapes without an inside (planes).
+  int orientation(const Segment& s, int i) const {
+    if (!s.solid()) return 0;
+    Eigen::Vector3d sn;
+    s.signed_distance(p(i), &sn);
+    return sn.dot(n(i)) >= 0 ? 1 : -1;
+  }
+  /// Pixel i fits segment s: distance within eps(z) and normal within the deviation, on the
+  /// side `sign` (see orientation; 0 = either side). The sign keeps a mug's outer wall and its
+  /// visible inner wall, a few millimetres apart but facing opposite ways, in different segments.
+  bool fits(const Segment& s, int i, int sign = 0) const {
+    const Eigen::Vector3d x = p(i);
+    Eigen::Vector3d sn;
+    const double d = s.signed_distance(x, &sn);
+    const double c = sn.dot(n(i));
+    return std::abs(d) <= eps(x.z()) && (sign == 0 ? std::abs(c) : sign * c) >= cos_dev;
+  }
+  /// Pixel i is within eps(z) of s and its normal is not turned further than `min_cos` from the
+  /// surface's outward normal: the test for thin parts whose normals are too noisy for fits(),
+  /// and whose fitted tube may sit a little in front of or behind the points.
+  bool near_facing(const Segment& s, int i, double min_cos) const {
+    const Eigen::Vector3d x = p(i);
+    Eigen::Vector3d sn;
+    const double d = s.signed_distance(x, &sn);
+    return std::abs(d) <= eps(x.z()) && sn.dot(n(i)) > min_cos;
+  }
+  /// The 4-connected component of free pixels that fit s, from `seed`, on a grid of `step`
+  /// pixels (seed snapped to it); `mask` (optional) restricts it. Capped at `cap` cells.
+  std::vector<int> component(const Segment& s, int seed, int step, const std::uint8_t* mask = nullptr,
+                             std::size_t cap = SIZE_MAX) const;
+  /// The shape limits of the options.
+  shapes::Limits limits(double min_radius, double max_radius) const {
+    return {min_radius, max_radius, o.min_minor_radius, o.max_minor_radius, o.max_major_radius};
+  }
+};
+
+/// A candidate of the search: its shape, seed pixel, estimated inlier pixels.
+struct Candidate {
+  Segment s;
+  int seed = -1;
+  double score = 0;
+};
+
+/// Sets a segment's pixels, inlier count, visible extent, canonical sign, inward flag and mean
+/// colour and hue (when `color` is given).
+void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color);
+
+/// The model-driven handle search next to cylinder `body` over the pixels `region` (free ones
+/// count), with the options' HandleOptions (features/handle.hpp): at most `max_count` handles, each
+/// with at least `min_support` pixels, plausible within `limits`; their pixels are taken.
+std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::vector<int>& region, int min_support,
+                                    int max_count, const ColorImage* color, const shapes::Limits& limits);
+
+}  // namespace mereo::features::detail

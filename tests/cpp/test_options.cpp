@@ -276,7 +276,7 @@ TEST(Options, DetectPrimitivesClassesByName) {
     if (f.name == "classes") classes = &f;
   ASSERT_TRUE(classes);
   assign(d, *classes, FieldValue(std::string("torus, plane")));
-  EXPECT_EQ(d.classes, (std::vector<PrimitiveClass>{PrimitiveClass::Torus, PrimitiveClass::Plane}));
+  EXPECT_EQ(d.classes, (std::vector<PrimitiveClass>{PrimitiveClass::of<shapes::Torus>(), PrimitiveClass::of<shapes::Plane>()}));
   EXPECT_NE(input_error([&] { assign(d, *classes, FieldValue(std::string("plane,cube"))); }).find("option 'classes'"),
             std::string::npos);
   EXPECT_EQ(to_text(classes->get(features::DetectOptions{})), "plane,cylinder,torus,sphere");

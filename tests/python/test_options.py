@@ -75,7 +75,7 @@ def call(kind, scene, **options):
     frame, cloud, normals, plane = scene
     if kind == "detect_primitives":
         segs = F.detect_primitives(cloud, normals, roi=plane.roi, **options)
-        return [(s.cls, s.inliers, s.radius) for s in segs]
+        return [(s.cls, s.inliers, getattr(s, "radius", 0.0)) for s in segs]
     if kind == "estimate_normals":
         return E.estimate_normals(cloud, **options)
     if kind == "support_plane":

@@ -63,7 +63,7 @@ const Segment& track_body(const Track& t) { return t.parts.front().world; }
 /// A shape whose centre is the middle of its visible extent along its axis (a cylinder): that
 /// place moves with the view, so only the place across the axis identifies it.
 std::optional<Eigen::Vector3d> view_axis(const Segment& s) {
-  if (const auto* c = s.get_if<shapes::Cylinder>()) return Eigen::Vector3d(c->axis.normalized());
+  if (s.view_centred()) return Eigen::Vector3d(s.direction()->normalized());
   return std::nullopt;
 }
 

@@ -511,25 +511,25 @@ nlohmann::json vec_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}
 
 nlohmann::json shape_json(const Shape& s) {
   nlohmann::json j;
-  if (s.cls == "cylinder") {
-    j = {{"point", vec_json(s.point)}, {"axis", vec_json(s.axis)}, {"radius", s.radius},
-         {"height", s.height}, {"inward", s.inward}};
-  } else if (s.cls == "torus") {
-    j = {{"center", vec_json(s.point)}, {"normal", vec_json(s.axis)},
-         {"major_radius", s.radius}, {"minor_radius", s.minor_radius},
-         {"arc_reference", vec_json(s.axis2)}, {"arc_start", s.arc_start},
-         {"arc_end", s.arc_end}};
+  // a class of the shape table: its own fields (mereo/shapes/*.cpp), as in the results
+  if (const auto seg = s.segment())
+    for (const auto& [name, value] : seg->fields())
+      std::visit([&, key = name](const auto& v) {
+        using V = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<V, Eigen::Vector3d>) j[key] = vec_json(v);
+        else j[key] = v;
+      }, value);
+  // and what the renderer adds
+  if (s.cls == "torus") {
+    j["arc_reference"] = vec_json(s.axis2), j["arc_start"] = s.arc_start, j["arc_end"] = s.arc_end;
   } else if (s.cls == "disc") {
     j = {{"center", vec_json(s.point)}, {"normal", vec_json(s.axis)}, {"radius", s.radius},
          {"inner_radius", s.minor_radius}};
   } else if (s.cls == "sphere") {
-    j = {{"center", vec_json(s.point)}, {"radius", s.radius}, {"axis", vec_json(s.axis)},
-         {"height_min", s.height_min}, {"height_max", s.height_max}, {"inward", s.inward}};
+    j["axis"] = vec_json(s.axis), j["height_min"] = s.height_min, j["height_max"] = s.height_max;
   } else if (s.cls == "box") {
     j = {{"center", vec_json(s.point)}, {"axis", vec_json(s.axis)},
          {"axis2", vec_json(s.axis2)}, {"size", vec_json(s.size)}};
-  } else if (s.cls == "plane") {
-    j = {{"point", vec_json(s.point)}, {"normal", vec_json(s.axis)}, {"d", -s.axis.dot(s.point)}};
   }
   return j;
 }

@@ -61,6 +61,9 @@ struct Segment {
   }
   bool solid() const { return visit([](const auto& s) { return std::decay_t<decltype(s)>::solid; }); }
   bool curved() const { return visit([](const auto& s) { return std::decay_t<decltype(s)>::curved; }); }
+  bool view_centred() const {
+    return visit([](const auto& s) { return std::decay_t<decltype(s)>::view_centred; });
+  }
   /// A class-specific model attribute ("radius", "height", "minor_radius", "aspect", "d"...);
   /// nullopt when the class has none of that name.
   std::optional<double> attribute(const std::string& name) const {

@@ -9,7 +9,7 @@ namespace mereo::shapes {
 struct Arc {
   static constexpr const char* name = "arc";
   static constexpr int sample_size = 0;
-  static constexpr bool thin = false, solid = false, curved = false;
+  static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
 
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();

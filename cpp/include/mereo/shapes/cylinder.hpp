@@ -13,7 +13,7 @@ namespace mereo::shapes {
 struct Cylinder {
   static constexpr const char* name = "cylinder";
   static constexpr int sample_size = 2;  // the axis is n1 x n2 (Schnabel et al. 2007)
-  static constexpr bool thin = false, solid = true, curved = true;
+  static constexpr bool thin = false, solid = true, curved = true, view_centred = true;
 
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();

@@ -9,7 +9,7 @@ namespace mereo::shapes {
 struct Plane {
   static constexpr const char* name = "plane";
   static constexpr int sample_size = 1;
-  static constexpr bool thin = false, solid = false, curved = false;
+  static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
 
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double d = 0.0;

@@ -13,6 +13,8 @@
 //   static constexpr bool solid;              has an inside and an outside (segments seen from
 //                                             inside are `inward`); a plane has not
 //   static constexpr bool curved;             measured on the unfiltered depth along the rays
+//   static constexpr bool view_centred;       origin() is the middle of the visible extent along the
+//                                             axis: it moves with the view (a cylinder's centre)
 //   the parameter block (public fields)
 //   Eigen::Vector3d origin() const;           the placement point (JSON point or center)
 //   std::optional<Eigen::Vector3d> direction() const;   axis or normal; none for a sphere

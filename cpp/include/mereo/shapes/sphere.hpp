@@ -8,7 +8,7 @@ namespace mereo::shapes {
 struct Sphere {
   static constexpr const char* name = "sphere";
   static constexpr int sample_size = 2;  // the centre where the normal lines meet
-  static constexpr bool thin = false, solid = true, curved = true;
+  static constexpr bool thin = false, solid = true, curved = true, view_centred = false;
 
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 0.0;

@@ -10,7 +10,7 @@ namespace mereo::shapes {
 struct Torus {
   static constexpr const char* name = "torus";
   static constexpr int sample_size = 4;  // see from_sample
-  static constexpr bool thin = true, solid = true, curved = false;
+  static constexpr bool thin = true, solid = true, curved = false, view_centred = false;
 
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();

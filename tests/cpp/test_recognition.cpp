@@ -149,10 +149,10 @@ TEST(DetectPrimitivesNode, TakesTheFramesCameraAndTheUnfilteredCloudFromItsInput
   ASSERT_EQ(node.size(), direct.size());
   int curved = 0;
   for (std::size_t i = 0; i < node.size(); ++i) {
-    EXPECT_EQ(node[i].cls, direct[i].cls);
+    EXPECT_EQ(node[i].cls(), direct[i].cls());
     EXPECT_EQ(node[i].pixels, direct[i].pixels);
-    EXPECT_EQ(node[i].radius, direct[i].radius);
-    curved += node[i].cls == PrimitiveClass::Cylinder;
+    EXPECT_EQ(node[i].size(), direct[i].size());
+    curved += node[i].is<shapes::Cylinder>();
   }
   EXPECT_GE(curved, 3);  // the three mugs' bodies, measured on the unfiltered points
 }

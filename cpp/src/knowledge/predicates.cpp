@@ -140,9 +140,12 @@ const std::vector<std::string>& predicate_params(const std::string& name) {
 }
 
 const std::vector<std::string>& attribute_names() {
-  static const std::vector<std::string> names = {"radius", "height",   "minor_radius", "aspect",
-                                                 "tilt_deg", "elevation", "inliers",     "residual",
-                                                 "hue",    "d",         "inward"};
+  // the classes' own (mereo/shapes/*.hpp: radius, height, minor_radius...), then every segment's
+  static const std::vector<std::string> names = [] {
+    auto n = shape_attribute_names();
+    for (const char* g : {"tilt_deg", "elevation", "inliers", "residual", "hue", "inward"}) n.push_back(g);
+    return n;
+  }();
   return names;
 }
 bool is_attribute(const std::string& name) {

@@ -1,6 +1,7 @@
 // The shape table's generic functions (mereo/shapes/table.hpp) and the helpers of shape.hpp.
 #include "mereo/shapes/table.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -44,6 +45,18 @@ std::vector<PrimitiveClass> primitive_classes() {
 std::vector<std::string> primitive_class_names() {
   std::vector<std::string> out;
   for (auto c : primitive_classes()) out.push_back(c.name());
+  return out;
+}
+
+std::vector<std::string> shape_attribute_names() {
+  std::vector<std::string> out;
+  for (auto c : primitive_classes())
+    std::visit(
+        [&](const auto& s) {
+          for (const char* n : std::decay_t<decltype(s)>::attributes)
+            if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
+        },
+        c.make());
   return out;
 }
 

@@ -6,33 +6,28 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Attribute', 'Concept', 'Constraint', 'Context', 'Detail', 'Hypothesis', 'KnowledgeBase', 'Lattice', 'MatchStats', 'Membership', 'Modality', 'Part', 'Segment', 'builtin_models', 'match', 'recognize', 'select']
+__all__: list[str] = ['Attribute', 'Concept', 'Constraint', 'Context', 'Detail', 'Hypothesis', 'KnowledgeBase', 'Lattice', 'MatchStats', 'Membership', 'Modality', 'Part', 'Segment', 'builtin_models', 'match', 'primitive_classes', 'recognize', 'select']
 class Segment:
     """
-    A primitive found in the data (a data instance): class, parameters (metres, camera frame), inliers, residual, colour.
+    A primitive found in the data (a data instance): its class (one of the shape table's, mereo/shapes/) with that class's parameters (metres, camera frame, the JSON output's field names: a cylinder's point, axis, radius, height; a torus's center, normal, major_radius, minor_radius...), inliers, residual, colour. Segment('cylinder', point=..., axis=..., radius=..., height=...); a torus also takes point/axis/radius.
     """
-    cls: str
-    def __init__(self, cls: str, point: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] = ..., axis: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] = ..., radius: typing.SupportsFloat = 0.0, height: typing.SupportsFloat = 0.0, minor_radius: typing.SupportsFloat = 0.0, d: typing.SupportsFloat = 0.0) -> None:
+    @staticmethod
+    def from_dict(d: dict) -> Segment:
+        """
+        A segment from a part or primitive of a result (its "class" and fields).
+        """
+    def __getattr__(self, arg0: str) -> typing.Any:
+        ...
+    def __init__(self, cls: str, **kwargs) -> None:
         ...
     def __repr__(self) -> str:
         ...
+    def set(self, name: str, value: typing.Any) -> None:
+        """
+        Sets one of the class's parameters by its JSON name.
+        """
     @property
-    def axis(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
-        ...
-    @axis.setter
-    def axis(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
-        ...
-    @property
-    def d(self) -> float:
-        ...
-    @d.setter
-    def d(self, arg0: typing.SupportsFloat) -> None:
-        ...
-    @property
-    def height(self) -> float:
-        ...
-    @height.setter
-    def height(self, arg0: typing.SupportsFloat) -> None:
+    def cls(self) -> str:
         ...
     @property
     def hue(self) -> float:
@@ -64,28 +59,15 @@ class Segment:
     def mean_color(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
         ...
     @property
-    def minor_radius(self) -> float:
-        ...
-    @minor_radius.setter
-    def minor_radius(self, arg0: typing.SupportsFloat) -> None:
-        ...
+    def params(self) -> dict:
+        """
+        the class's parameters, by their JSON names
+        """
     @property
     def pixels(self) -> numpy.typing.NDArray[numpy.int32]:
         """
         inlier pixel indices v * width + u (NumPy int32)
         """
-    @property
-    def point(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
-        ...
-    @point.setter
-    def point(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
-        ...
-    @property
-    def radius(self) -> float:
-        ...
-    @radius.setter
-    def radius(self, arg0: typing.SupportsFloat) -> None:
-        ...
     @property
     def residual(self) -> float:
         ...
@@ -362,6 +344,10 @@ def match(concept: Concept, segments: collections.abc.Sequence[Segment], up: typ
     Options (keyword arguments; mereo.options_of lists them):
         best (int, default 10, 1..1000): hypotheses kept per concept
         min_score (float, default 1e-06, 0..1): hypotheses below this score are dropped
+    """
+def primitive_classes() -> list[str]:
+    """
+    The shape table's classes, in its order.
     """
 def recognize(kb: KnowledgeBase, concepts: collections.abc.Sequence[str], segments: collections.abc.Sequence[Segment], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, **kwargs) -> Lattice:
     """

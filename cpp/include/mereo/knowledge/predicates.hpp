@@ -41,9 +41,11 @@ bool is_builtin_predicate(const std::string& name);
 /// The parameters a built-in predicate accepts (for checking model files).
 const std::vector<std::string>& predicate_params(const std::string& name);
 
-/// Attribute names: radius, height, minor_radius, aspect (height / diameter), tilt_deg (angle
-/// between the axis and `up`), elevation (centre height along up, metres), inliers, residual,
-/// hue (degrees), d (plane offset), inward (1 for a surface seen from inside: a mug's inner wall).
+/// Attribute names: those of the shape table's classes (a cylinder's radius, height and aspect =
+/// height / diameter, a torus's minor_radius, a plane's d...: mereo/shapes/*.hpp; NaN for a class
+/// that lacks one), then tilt_deg (angle between the axis and `up`), elevation (centre height
+/// along up, metres), inliers, residual, hue (degrees), inward (1 for a surface seen from
+/// inside: a mug's inner wall).
 const std::vector<std::string>& attribute_names();
 bool is_attribute(const std::string& name);
 double attribute_value(const Segment& s, const std::string& name, const Context& context);

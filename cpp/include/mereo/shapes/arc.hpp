@@ -10,6 +10,7 @@ struct Arc {
   static constexpr const char* name = "arc";
   static constexpr int sample_size = 0;
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
+  static constexpr std::array<const char*, 1> attributes = {"radius"};  ///< names of attribute()
 
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();

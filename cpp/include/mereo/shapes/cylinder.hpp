@@ -14,6 +14,7 @@ struct Cylinder {
   static constexpr const char* name = "cylinder";
   static constexpr int sample_size = 2;  // the axis is n1 x n2 (Schnabel et al. 2007)
   static constexpr bool thin = false, solid = true, curved = true, view_centred = true;
+  static constexpr std::array<const char*, 3> attributes = {"radius", "height", "aspect"};  ///< names of attribute()
 
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();

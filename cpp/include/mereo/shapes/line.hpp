@@ -10,6 +10,7 @@ struct Line {
   static constexpr const char* name = "line";
   static constexpr int sample_size = 0;
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
+  static constexpr std::array<const char*, 2> attributes = {"length", "height"};  ///< names of attribute()
 
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();

@@ -10,6 +10,7 @@ struct Plane {
   static constexpr const char* name = "plane";
   static constexpr int sample_size = 1;
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
+  static constexpr std::array<const char*, 1> attributes = {"d"};  ///< names of attribute()
 
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double d = 0.0;

@@ -36,11 +36,13 @@
 //   void fields(FieldList&, bool inward) const;   the JSON fields, in the contract's order
 //   bool set_field(const std::string&, const FieldValue&);   from JSON or Python (aliases too)
 //   std::optional<double> attribute(const std::string&) const;  class-specific model attributes
+//   static constexpr std::array<const char*, N> attributes;      ... and their names
 //   void outline(Outline&) const;             3-D polylines for drawing (camera frame)
 //   void tracked(TrackedParams&) const; void set_tracked(const double*);   what a tracker filters
 //   void set_direction(const Eigen::Vector3d&);   the axis or normal (a tracker's running mean)
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <utility>

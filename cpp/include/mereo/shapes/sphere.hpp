@@ -9,6 +9,7 @@ struct Sphere {
   static constexpr const char* name = "sphere";
   static constexpr int sample_size = 2;  // the centre where the normal lines meet
   static constexpr bool thin = false, solid = true, curved = true, view_centred = false;
+  static constexpr std::array<const char*, 1> attributes = {"radius"};  ///< names of attribute()
 
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 0.0;

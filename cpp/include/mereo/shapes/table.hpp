@@ -70,5 +70,7 @@ PrimitiveClass primitive_class(const std::string& name);
 /// Every class, in the table's order, and their names.
 std::vector<PrimitiveClass> primitive_classes();
 std::vector<std::string> primitive_class_names();
+/// The class-specific attribute names of all classes (shapes' `attributes`), each once.
+std::vector<std::string> shape_attribute_names();
 
 }  // namespace mereo

@@ -11,6 +11,7 @@ struct Torus {
   static constexpr const char* name = "torus";
   static constexpr int sample_size = 4;  // see from_sample
   static constexpr bool thin = true, solid = true, curved = false, view_centred = false;
+  static constexpr std::array<const char*, 3> attributes = {"radius", "major_radius", "minor_radius"};  ///< names of attribute()
 
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();

@@ -18,8 +18,14 @@
 
 namespace mereo {
 
-/// A primitive's class and its parameter block.
-using Geometry = std::variant<shapes::Plane, shapes::Cylinder, shapes::Sphere, shapes::Torus, shapes::Line, shapes::Arc>;
+/// A primitive's class and its parameter block: the list of classes, one entry per line.
+using Geometry = std::variant<
+    shapes::Plane,
+    shapes::Cylinder,
+    shapes::Sphere,
+    shapes::Torus,
+    shapes::Line,
+    shapes::Arc>;
 
 namespace shapes::detail {
 template <class S, class V>

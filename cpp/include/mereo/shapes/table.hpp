@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mereo/shapes/arc.hpp"
+#include "mereo/shapes/cone.hpp"
 #include "mereo/shapes/cylinder.hpp"
 #include "mereo/shapes/line.hpp"
 #include "mereo/shapes/plane.hpp"
@@ -25,7 +26,8 @@ using Geometry = std::variant<
     shapes::Sphere,
     shapes::Torus,
     shapes::Line,
-    shapes::Arc>;
+    shapes::Arc,
+    shapes::Cone>;
 
 namespace shapes::detail {
 template <class S, class V>

@@ -9,6 +9,7 @@
 #include "mereo/core/error.hpp"
 #include "mereo/extension/normals.hpp"
 #include "mereo/extension/projection.hpp"
+#include "mereo/extension/support_plane.hpp"
 #include "mereo/features/primitives.hpp"
 #include "mereo/signal/depth_filter.hpp"
 #include "mereo/synthetic/scene.hpp"
@@ -316,4 +317,68 @@ TEST(Features, HandleTurnTellsAHandleFromARingTurnedAwayFromTheAxis) {
       EXPECT_LT(turn.rms_turned, 0.6 * turn.rms_held);  // what the handle search rejects
     }
   }
+}
+
+// Tapered cups (cone bodies, 4-10 degrees) in the renderer with its Kinect-like noise, found as
+// cones by the detector (classes plane, cylinder, cone; points above the table): the cone's radii
+// at the true ends of the body within 2 mm and its axis within 2 degrees; upright cylinders
+// stay cylinders (bodies of at least 700 pixels). The detector's rule that tries a cylinder as a
+// cone was set on seeds 1100-1123 (27 of 30 cups found); these are seeds 1124-1147, held out.
+TEST(Features, TaperedCupsAreConesWithTheirRadiiAndAxis) {
+  synthetic::SceneOptions so;
+  so.tapered_cups = true;
+  std::vector<double> radius_mm, axis_deg;
+  int cups = 0, found = 0, upright = 0, upright_as_cones = 0;
+  for (std::uint64_t seed = 1124; seed < 1148; ++seed) {
+    const auto sf = synthetic::render(seed, so);
+    const Cloud cloud = extension::back_project(sf.frame);
+    const NormalMap normals = extension::estimate_normals(cloud);
+    features::DetectOptions o;
+    o.classes = {PrimitiveClass::of<shapes::Plane>(), PrimitiveClass::of<shapes::Cylinder>(),
+                 PrimitiveClass::of<shapes::Cone>()};
+    o.roi = extension::find_support_plane(cloud, normals).roi;
+    o.focal_px = sf.frame.intrinsics.fx;
+    const auto segs = features::detect_primitives(cloud, normals, o);
+    for (const auto& obj : sf.truth.objects_truth) {
+      const auto* body = obj.part("body");
+      if (!body || body->visible_pixels < 700) continue;
+      if (obj.model == "mug" || obj.model == "jar" || obj.model == "can") {
+        ++upright;
+        for (const auto& s : segs)
+          if (!s.inward && bench::majority_label(s, sf.truth.parts).first == body->label && s.is<shapes::Cone>()) {
+            ++upright_as_cones;
+            break;
+          }
+      }
+      if (obj.model != "cup") continue;
+      ++cups;
+      const synthetic::Shape& t = body->camera;
+      const Segment* best = nullptr;
+      for (const auto& s : segs)
+        if (s.is<shapes::Cone>() && !s.inward && bench::majority_label(s, sf.truth.parts).first == body->label &&
+            (!best || s.inliers > best->inliers))
+          best = &s;
+      if (!best) continue;
+      ++found;
+      const auto& c = best->as<shapes::Cone>();
+      double worst = 0;
+      for (double end : {-0.5, 0.5}) {
+        const Eigen::Vector3d at = t.point + t.axis * (end * t.height);
+        const double truth = t.radius + std::tan(t.angle) * end * t.height;
+        worst = std::max(worst, std::abs(c.radius_at(c.axis.normalized().dot(at - c.point)) - truth));
+      }
+      radius_mm.push_back(1000 * worst);
+      axis_deg.push_back(std::acos(std::min(1.0, std::abs(c.axis.normalized().dot(t.axis.normalized())))) * 180 / M_PI);
+    }
+  }
+  ASSERT_GE(cups, 10);
+  std::sort(radius_mm.begin(), radius_mm.end()), std::sort(axis_deg.begin(), axis_deg.end());
+  std::printf("tapered cups: %d of %d found as cones; radius error at the ends: median %.2f mm, max %.2f mm; "
+              "axis: median %.2f deg, max %.2f deg\n", found, cups, bench::median(radius_mm),
+              radius_mm.empty() ? NAN : radius_mm.back(), bench::median(axis_deg), axis_deg.empty() ? NAN : axis_deg.back());
+  std::printf("upright cylinders (mugs, jars, cans) taken for cones: %d of %d\n", upright_as_cones, upright);
+  EXPECT_GE(found, int(0.9 * cups));
+  EXPECT_LE(upright_as_cones, int(0.1 * upright));
+  for (double e : radius_mm) EXPECT_LE(e, 2.0);
+  for (double e : axis_deg) EXPECT_LE(e, 2.0);
 }

@@ -68,6 +68,28 @@ bool hit_cylinder(const Prim& p, const Vec3& o, const Vec3& d, double tmin, doub
   return false;
 }
 
+/// A truncated cone about p.a: radius p.r + p.slope * s at s along the axis from p.c, |s| <=
+/// half_h (the quadratic of |q - (q.a) a| = r + slope (q.a), on the nappe where that is > 0).
+bool hit_cone(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax, Hit& h) {
+  const Vec3 w = o - p.c;
+  const double da = d.dot(p.a), wa = w.dot(p.a), k = p.slope;
+  const Vec3 dp = d - da * p.a, wp = w - wa * p.a;
+  const double r0 = p.r + k * wa;
+  double A = dp.squaredNorm() - k * k * da * da, B = dp.dot(wp) - k * da * r0, C = wp.squaredNorm() - r0 * r0;
+  if (A < 0) A = -A, B = -B, C = -C;  // a ray steeper than the cone's side: the same roots
+  double t1, t2;
+  if (!solve_quadratic(A, B, C, t1, t2)) return false;
+  for (double t : {t1, t2}) {
+    if (!(t > tmin && t < tmax)) continue;
+    const double s = wa + t * da;
+    if (std::abs(s) > p.half_h || p.r + k * s <= 0) continue;
+    h.t = t;
+    h.n = ((wp + t * dp).normalized() - k * p.a).normalized();
+    return true;
+  }
+  return false;
+}
+
 bool hit_sphere_zone(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax,
                      Hit& h) {
   const Vec3 w = o - p.c;
@@ -213,6 +235,7 @@ bool intersect(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double 
     case Kind::Plane: return hit_plane(p, o, d, tmin, tmax, hit);
     case Kind::Box: return hit_box(p, o, d, tmin, tmax, hit);
     case Kind::Cylinder: return hit_cylinder(p, o, d, tmin, tmax, hit);
+    case Kind::Cone: return hit_cone(p, o, d, tmin, tmax, hit);
     case Kind::Disc: return hit_disc(p, o, d, tmin, tmax, hit);
     case Kind::SphereZone: return hit_sphere_zone(p, o, d, tmin, tmax, hit);
     case Kind::Torus: return hit_torus(p, o, d, tmin, tmax, hit);
@@ -226,6 +249,7 @@ Bound bound_of(const Prim& p) {
     case Kind::Plane: b.r = -1; break;
     case Kind::Box: b.c = p.c; b.r = p.half.norm(); break;
     case Kind::Cylinder: b.c = p.c; b.r = std::hypot(p.r, p.half_h); break;
+    case Kind::Cone: b.c = p.c; b.r = std::hypot(p.r + std::abs(p.slope) * p.half_h, p.half_h); break;
     case Kind::Disc: b.c = p.c; b.r = p.r; break;
     case Kind::SphereZone: b.c = p.c; b.r = p.r; break;
     case Kind::Torus: b.c = p.c; b.r = p.r + p.r_in; break;

@@ -60,7 +60,7 @@ class Rng {
 
 // ---- primitives in a common frame (the camera frame while rendering) ----------------------
 
-enum class Kind { Plane, Box, Cylinder, Disc, SphereZone, Torus };
+enum class Kind { Plane, Box, Cylinder, Disc, SphereZone, Torus, Cone };
 
 struct Prim {
   Kind kind = Kind::Plane;
@@ -71,7 +71,8 @@ struct Prim {
   Vec3 half = Vec3::Zero();       // box half extents (x, y, z) = (b, e, a)
   double r = 0;                   // radius / outer radius / torus major radius
   double r_in = 0;                // disc inner radius / torus minor radius
-  double half_h = 0;              // cylinder half height
+  double half_h = 0;              // cylinder and cone half height
+  double slope = 0;               // cone: tan(half-angle), its radius r + slope * (along a)
   double hmin = 0, hmax = 0;      // sphere zone offsets along a
   double arc0 = 0, arc_len = 0;   // torus arc [arc0, arc0 + arc_len], arc_len >= 2 pi: all
   bool clip = false;              // torus: do not render inside this solid cylinder

@@ -53,6 +53,11 @@ Prim prim_of(const Shape& s) {
     p.kind = Kind::Cylinder;
     p.r = s.radius;
     p.half_h = 0.5 * s.height;
+  } else if (s.cls == "cone") {
+    p.kind = Kind::Cone;
+    p.r = s.radius;
+    p.half_h = 0.5 * s.height;
+    p.slope = std::tan(s.angle);
   } else if (s.cls == "disc") {
     p.kind = Kind::Disc;
     p.r = s.radius;

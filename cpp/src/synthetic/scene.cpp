@@ -37,6 +37,7 @@ std::optional<Segment> Shape::segment() const {
   s.set_field("height", height);
   s.set_field("minor_radius", minor_radius);
   s.set_field("d", -axis.normalized().dot(point));  // a plane's
+  s.set_field("half_angle_deg", angle * 180.0 / 3.14159265358979323846);  // a cone's
   s.inward = inward;
   return s;
 }
@@ -91,6 +92,19 @@ Shape cylinder(double x, double y, double z0, double z1, double r, bool inward =
   s.axis = Vec3::UnitZ();
   s.radius = r;
   s.height = z1 - z0;
+  s.inward = inward;
+  return s;
+}
+
+/// A truncated cone about the vertical through (x, y), radius r0 at z0 and r1 > r0 at z1.
+Shape cone(double x, double y, double z0, double z1, double r0, double r1, bool inward = false) {
+  Shape s;
+  s.cls = "cone";
+  s.point = Vec3(x, y, 0.5 * (z0 + z1));
+  s.axis = Vec3::UnitZ();
+  s.radius = 0.5 * (r0 + r1);
+  s.height = z1 - z0;
+  s.angle = std::atan((r1 - r0) / (z1 - z0));
   s.inward = inward;
   return s;
 }
@@ -202,7 +216,7 @@ struct Placer {
   }
 };
 
-enum class Model { Mug, Jar, Can, Bottle, Plate, Bowl, Box };
+enum class Model { Mug, Jar, Can, Bottle, Plate, Bowl, Box, TaperedCup };
 
 Model random_model(Rng& rng) {
   const double u = rng.uniform();
@@ -262,6 +276,20 @@ bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_
       obj.parts.emplace_back("handle", t);
       placer.taken.push_back({x, y, fr, index});
       if (first_mug) placer.keep_visible.push_back({x, y, fr, h});
+      break;
+    }
+    case Model::TaperedCup: {
+      const double r0 = rng.uniform(0.022, 0.032), h = rng.uniform(0.07, 0.11);
+      const double r1 = r0 + h * std::tan(rng.uniform(4.0, 10.0) * kPi / 180.0);
+      const double wall = rng.uniform(0.003, 0.004), tb = rng.uniform(0.006, 0.01);
+      if (!placer.place(rng, r1, h, x, y)) return false;
+      obj.model = "cup";
+      obj.parts.emplace_back("body", cone(x, y, 0.0, h, r0, r1));
+      const double inner0 = r0 + (r1 - r0) * tb / h - wall;
+      obj.parts.emplace_back("inside", cone(x, y, tb, h, inner0, r1 - wall, true));
+      obj.parts.emplace_back("rim", disc(x, y, h, r1, r1 - wall));
+      obj.parts.emplace_back("bottom", disc(x, y, tb, inner0));
+      placer.taken.push_back({x, y, r1, index});
       break;
     }
     case Model::Jar:
@@ -489,6 +517,11 @@ Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
       ok = add_object(scene, placer, rng, tries < 2 ? m : Model::Can,
                       m == Model::Mug && !have_mug && tries < 2);
     if (ok && scene.objects.back().model == "mug") have_mug = true;
+  }
+
+  if (options.tapered_cups) {
+    const int cups = rng.integer(1, 2);
+    for (int i = 0; i < cups; ++i) add_object(scene, placer, rng, Model::TaperedCup, false);
   }
 
   if (options.distractors || options.ambiguous_distractors) {

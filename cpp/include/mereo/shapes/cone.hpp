@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "mereo/shapes/cylinder.hpp"
 #include "mereo/shapes/shape.hpp"
 
 namespace mereo::shapes {
@@ -24,6 +25,19 @@ struct Cone {
   double radius = 0.0;
   double angle = 0.0;
   double height = 0.0;
+
+  /// A cylinder is a cone of no taper: the detector tries a cylinder's segment as a cone, and
+  /// keeps it when it fits clearly better with a taper (its departure) of at least 2.5 degrees.
+  using Refines = Cylinder;
+  static constexpr double min_departure = 2.5 * M_PI / 180;
+  double departure() const { return angle; }
+  /// The cylinder that a cone of too little taper is taken for instead.
+  Cylinder simplified() const { return {point, axis, radius, height}; }
+  static Cone refined_from(const Cylinder& c) {
+    Cone k;
+    k.point = c.point, k.axis = c.axis, k.radius = c.radius, k.height = c.height, k.angle = 2 * kMinAngle;
+    return k;
+  }
 
   /// The radius at signed distance t along the axis from `point`.
   double radius_at(double t) const { return radius + std::tan(angle) * t; }

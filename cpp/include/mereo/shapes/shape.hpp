@@ -40,10 +40,17 @@
 //   void outline(Outline&) const;             3-D polylines for drawing (camera frame)
 //   void tracked(TrackedParams&) const; void set_tracked(const double*);   what a tracker filters
 //   void set_direction(const Eigen::Vector3d&);   the axis or normal (a tracker's running mean)
+// and optionally, for a class that generalizes another (a cone: a cylinder of no taper):
+//   using Refines = Special; static S refined_from(const Special&);   the detector then tries a
+//                                             segment of the special class as this one
+//   double departure() const; static constexpr double min_departure;   ... kept only this far
+//                                             from the special class (a cone's taper); closer, it
+//   Special simplified() const;               is taken for the special class when that is wanted
 #pragma once
 
 #include <array>
 #include <optional>
+#include <type_traits>
 #include <string>
 #include <utility>
 #include <variant>
@@ -89,6 +96,12 @@ std::vector<Eigen::Vector3d> circle(const Eigen::Vector3d& centre, const Eigen::
 inline Eigen::Vector3d across(const Eigen::Vector3d& q, const Eigen::Vector3d& unit_axis) {
   return q - unit_axis * unit_axis.dot(q);
 }
+
+/// Whether shape S generalizes another (S::Refines, S::refined_from; see above).
+template <class S, class = void>
+struct has_refines : std::false_type {};
+template <class S>
+struct has_refines<S, std::void_t<typename S::Refines>> : std::true_type {};
 
 /// The value of a field as a number / vector; nullopt for the other kind.
 std::optional<double> number(const FieldValue& v);

@@ -22,6 +22,8 @@ namespace mereo::synthetic {
 /// The parameters of one part's shape. Which fields mean something depends on `cls`:
 ///  - "cylinder": `point` on the axis at the middle of the part, unit `axis`, `radius`, `height`
 ///    (a closed cylinder's caps and a mug's inner wall are parts of their own);
+///  - "cone":     a truncated cone: `point` on the axis at the middle of the part, unit `axis`
+///    the way it widens, `radius` at `point`, half-angle `angle` (radians), `height`;
 ///  - "torus":    `point` = centre, `axis` = unit normal of the ring plane (the symmetry axis),
 ///    `radius` = major radius, `minor_radius`; only the arc outside a mug body is rendered,
 ///    `arc_start`/`arc_end` bound the visible arc (radians, see scene.cpp);
@@ -40,6 +42,7 @@ struct Shape {
   double radius = 0.0;
   double height = 0.0;
   double minor_radius = 0.0;
+  double angle = 0.0;  ///< "cone": half-angle, radians
   double height_min = 0.0;
   double height_max = 0.0;
   double arc_start = 0.0;
@@ -91,6 +94,9 @@ struct SceneOptions {
   /// ... touching the jar at its mid-height, the ring's plane turned 35-70 degrees away from
   /// the jar's axis: from some views it passes for a handle, from the views around not.
   bool ambiguous_distractors = false;
+  /// Tapered cups (cone bodies, open at the wide top, 4-10 degrees) join the objects: one or
+  /// two, after the others.
+  bool tapered_cups = false;
   int min_objects = 3;               ///< objects on the table (besides distractors)
   int max_objects = 6;
   double min_distance = 0.6;         ///< camera distance to the table centre, metres

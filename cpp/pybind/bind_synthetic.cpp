@@ -20,6 +20,8 @@ void bind_synthetic(py::module_& m) {
       .def_readwrite("noise", &syn::SceneOptions::noise)
       .def_readwrite("distractors", &syn::SceneOptions::distractors)
       .def_readwrite("ambiguous_distractors", &syn::SceneOptions::ambiguous_distractors)
+      .def_readwrite("tapered_cups", &syn::SceneOptions::tapered_cups,
+                     "one or two tapered cups (cone bodies, 4-10 degrees) join the objects")
       .def_readwrite("min_objects", &syn::SceneOptions::min_objects)
       .def_readwrite("max_objects", &syn::SceneOptions::max_objects)
       .def_readwrite("min_distance", &syn::SceneOptions::min_distance)

@@ -33,6 +33,7 @@ from ._mereo.knowledge import (
     Segment,
     builtin_models,
     match,
+    primitive_classes,
     recognize,
     select,
 )
@@ -40,7 +41,7 @@ from ._mereo.knowledge import (
 __all__ = [
     "Attribute", "Concept", "Constraint", "Context", "Detail", "Hypothesis", "KnowledgeBase", "Lattice",
     "MatchStats", "Membership", "Modality", "Part", "Segment", "builtin_models", "concept", "load_models",
-    "match", "recognize", "select",
+    "match", "primitive_classes", "recognize", "select",
 ]
 
 

@@ -83,3 +83,25 @@ def test_primitives_to_objects_in_a_graph(clean):
     lattice = r["outputs"]["objects.lattice"]
     assert len(segs) > 3
     assert {h.concept for h in lattice.hypotheses} & {"jar", "bowl", "mug"}
+
+
+def test_cones_go_through_the_shape_table():
+    """A class of the shape table (the cone) needs nothing of its own in Python: detected when
+    asked for, its parameters by their JSON names, a Segment again from a result's dict."""
+    assert "cone" in mereo.knowledge.primitive_classes()
+    o = mereo.synthetic.SceneOptions()
+    o.tapered_cups = True
+    sf = mereo.synthetic.render(1130, o)
+    cloud = mereo.extension.back_project(sf.frame)
+    normals = mereo.extension.estimate_normals(cloud)
+    roi = mereo.extension.find_support_plane(cloud, normals).roi
+    segs = mereo.features.detect_primitives(cloud, normals, roi=roi, classes=["plane", "cylinder", "cone"])
+    cones = [s for s in segs if s.cls == "cone"]
+    assert cones, [s.cls for s in segs]
+    c = cones[0]
+    assert {"point", "axis", "radius", "half_angle_deg", "height", "radius_narrow", "radius_wide"} <= set(c.params)
+    assert 2.5 <= c.half_angle_deg <= 15 and c.radius_narrow < c.radius_wide
+    again = mereo.knowledge.Segment.from_dict({"class": "cone", **c.params})
+    assert again.radius == pytest.approx(c.radius) and again.half_angle_deg == pytest.approx(c.half_angle_deg)
+    with pytest.raises(ValueError, match="has no field"):
+        mereo.knowledge.Segment("cone", major_radius=0.02)

@@ -66,6 +66,14 @@ class SceneOptions:
     def orbit_step_deg(self, arg0: typing.SupportsFloat) -> None:
         ...
     @property
+    def tapered_cups(self) -> bool:
+        """
+        one or two tapered cups (cone bodies, 4-10 degrees) join the objects
+        """
+    @tapered_cups.setter
+    def tapered_cups(self, arg0: bool) -> None:
+        ...
+    @property
     def width(self) -> int:
         ...
     @width.setter

@@ -6,9 +6,8 @@
 
 namespace mereo::shapes {
 
-struct Line {
+struct Line : Undetected<Line> {
   static constexpr const char* name = "line";
-  static constexpr int sample_size = 0;
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
   static constexpr std::array<const char*, 2> attributes = {"length", "height"};  ///< names of attribute()
 
@@ -23,16 +22,6 @@ struct Line {
   double half_extent_along(const Eigen::Vector3d& dir) const;
   double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n = nullptr) const;
   double surface_distance(const Eigen::Vector3d& x) const;
-  static std::optional<Line> from_sample(const Eigen::Vector3d*, const Eigen::Vector3d*, const Limits&) {
-    return std::nullopt;
-  }
-  bool plausible(const Limits&) const { return false; }
-  Eigen::VectorXd pack() const { return {}; }
-  void unpack(const Eigen::VectorXd&) {}
-  bool fit_direct(const std::vector<Eigen::Vector3d>&) { return false; }
-  double range_residual(const Eigen::Vector3d& x) const { return signed_distance(x); }
-  void set_extent(const std::vector<Eigen::Vector3d>&) {}
-  void canonical() {}
   void transform(const Eigen::Isometry3d& T) { point = T * point, axis = T.linear() * axis; }
   void fields(FieldList& out, bool inward) const;
   bool set_field(const std::string& key, const FieldValue& v);

@@ -97,6 +97,23 @@ inline Eigen::Vector3d across(const Eigen::Vector3d& q, const Eigen::Vector3d& u
   return q - unit_axis * unit_axis.dot(q);
 }
 
+/// What a class that is not detected in depth (a line, an arc: models may name them) gives for
+/// the detector's part of the interface: no minimal set, no refit, no extent, no sign convention.
+template <class S>
+struct Undetected {
+  static constexpr int sample_size = 0;
+  static std::optional<S> from_sample(const Eigen::Vector3d*, const Eigen::Vector3d*, const Limits&) {
+    return std::nullopt;
+  }
+  bool plausible(const Limits&) const { return false; }
+  Eigen::VectorXd pack() const { return {}; }
+  void unpack(const Eigen::VectorXd&) {}
+  bool fit_direct(const std::vector<Eigen::Vector3d>&) { return false; }
+  double range_residual(const Eigen::Vector3d& x) const { return static_cast<const S*>(this)->signed_distance(x); }
+  void set_extent(const std::vector<Eigen::Vector3d>&) {}
+  void canonical() {}
+};
+
 /// Whether shape S generalizes another (S::Refines, S::refined_from; see above).
 template <class S, class = void>
 struct has_refines : std::false_type {};

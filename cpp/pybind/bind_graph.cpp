@@ -209,6 +209,9 @@ py::dict result_to_python(const FrameResult& r) {
   for (const auto& [k, v] : r.outputs) outs[py::str(k)] = value_to_python(v);
   d["outputs"] = outs;
   d["error"] = r.error ? py::object(py::str(r.error->what())) : py::object(py::none());
+  // which node failed and why (the CLI turns a content failure into a warning)
+  d["error_node"] = r.error ? py::object(py::str(r.error->node)) : py::object(py::none());
+  d["error_cause"] = r.error ? py::object(py::str(r.error->cause)) : py::object(py::none());
   py::dict times;
   for (const auto& [k, v] : r.timings_ms) times[py::str(k)] = v;
   d["timings_ms"] = times;

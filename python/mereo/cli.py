@@ -212,18 +212,23 @@ def cmd_recognize(args) -> int:
         overlay.mkdir(parents=True, exist_ok=True)
     counts: dict[str, int] = {}
     frames = 0
+    warned = 0
     bar = _progress(None, len(seq), "recognize") if len(seq) > 1 else None
     t0 = time.perf_counter()
 
     def on_result(r):
-        nonlocal frames
-        res = recognition._result(r)
+        nonlocal frames, warned
+        res = recognition._result(r, args.on_error)
         out.write(json.dumps(res) + "\n")
+        if res.get("warnings"):
+            warned += 1
+            message = f"mereo: warning: frame {res['frame']}: " + "; ".join(res["warnings"])
+            (bar.write(message, file=sys.stderr) if bar is not None else print(message, file=sys.stderr))
         for o in res["objects"]:
             if o["accepted"]:
                 counts[o["model"]] = counts.get(o["model"], 0) + 1
-        if overlay is not None:
-            frame = r["outputs"]["source.frame"]
+        frame = r["outputs"].get("source.frame") if overlay is not None else None
+        if frame is not None:  # (a frame that failed has no overlay)
             name = f"{frames:04d}_{frame.id}" if len(seq) > 1 else frame.id or "frame"
             io.write_image(overlay / f"{name}_overlay.png", recognition.draw_result(frame, res))
         frames += 1
@@ -231,13 +236,15 @@ def cmd_recognize(args) -> int:
             bar.update(1)
 
     keep = ["result.result"] + (["source.frame"] if overlay else [])
-    graph.run(seq, mode=args.mode, keep=keep, on_result=on_result)
+    graph.run(seq, mode=args.mode, keep=keep, on_result=on_result, on_error=args.on_error)
     if bar is not None:
         bar.close()
     if args.out:
         out.close()
     wall = time.perf_counter() - t0
     found = ", ".join(f"{n} {k}" for n, k in sorted(counts.items())) or "nothing"
+    if warned:
+        found += f"; {warned} frame(s) with a warning"
     print(f"mereo recognize: {frames} frame(s) in {wall:.2f} s ({frames / wall:.1f} frames/s): {found}"
           + (f"; results in {args.out}" if args.out else "") + (f"; overlays in {overlay}" if overlay else ""),
           file=sys.stderr)
@@ -312,6 +319,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--overlay", metavar="DIR", help="write each frame with the recognized objects drawn")
     g.add_argument("--mode", choices=["parallel", "deterministic"], default="parallel")
     g.add_argument("--no-track", action="store_true", help="a sequence: recognize each frame on its own")
+    g.add_argument("--on-error", choices=["skip", "stop"], default="skip",
+                   help="a frame where a node finds nothing usable (no support surface...): an empty result "
+                        "with warnings and the run goes on (skip, the default), or stop with an error")
     g.add_argument("--odometry", action="store_true",
                    help="a sequence: estimate the camera poses (RGB-D odometry) even where the input has them")
     _distractor_flags(g)

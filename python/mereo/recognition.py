@@ -92,31 +92,45 @@ def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | Non
     return g
 
 
-def _result(r: dict) -> dict:
-    if r["error"]:
-        raise _mereo.InputError(r["error"])
-    out = json.loads(r["outputs"]["result.result"])
+def _result(r: dict, on_error: str = "stop") -> dict:
+    """One frame's result dict from a run's result. A node that failed on the frame (its content:
+    no support surface in view, too little depth...) raises with on_error="stop"; with "skip" the
+    frame gets an empty result whose "warnings" say which node failed and why (DESIGN.md), so that
+    a sequence goes on. (A frame that cannot be read stops the run either way.)"""
     times = dict(r["timings_ms"])
     times["total"] = sum(times.values())
+    if r["error"]:
+        if on_error != "skip":
+            raise _mereo.InputError(r["error"])
+        return {"frame": r["frame"], "source": "", "objects": [], "primitives": [],
+                "warnings": [f"{r['error_node']}: {r['error_cause']}"], "timing_ms": times}
+    out = json.loads(r["outputs"]["result.result"])
     out["timing_ms"] = times
     return out
 
 
 def recognize_all(frames, *, graph: Graph | None = None, models: Sequence[str] | str | None = None,
-                  goal: str | None = None, mode: str = "parallel", on_result=None) -> Iterator[dict] | None:
+                  goal: str | None = None, mode: str = "parallel", on_result=None,
+                  on_error: str = "skip") -> Iterator[dict] | None:
     """Runs the pipeline over frames (a list, a mereo.io.Sequence); returns the results in frame
-    order, or passes each to `on_result(result)` as it comes (then returns None)."""
+    order, or passes each to `on_result(result)` as it comes (then returns None). A frame where a
+    node finds nothing usable gets an empty result with "warnings" and the run goes on
+    (on_error="stop": the first such frame raises)."""
+    if on_error not in ("skip", "stop"):
+        raise ValueError(f"on_error '{on_error}' is not 'skip' or 'stop'")
     g = graph or tabletop_graph(models, goal=goal)
+    run = dict(mode=mode, keep=["result.result"], on_error=on_error)
     if on_result is not None:
-        g.run(frames, mode=mode, keep=["result.result"], on_result=lambda r: on_result(_result(r)))
+        g.run(frames, on_result=lambda r: on_result(_result(r, on_error)), **run)
         return None
-    return [_result(r) for r in g.run(frames, mode=mode, keep=["result.result"])]
+    return [_result(r, on_error) for r in g.run(frames, **run)]
 
 
 def recognize(frame, models: Sequence[str] | str | None = None, *, goal: str | None = None,
-              graph: Graph | None = None) -> dict:
-    """Recognizes the objects of one frame: the same dict as one line of `mereo recognize`."""
-    return recognize_all([frame], graph=graph, models=models, goal=goal, mode="deterministic")[0]
+              graph: Graph | None = None, on_error: str = "skip") -> dict:
+    """Recognizes the objects of one frame: the same dict as one line of `mereo recognize` (with
+    "warnings" and no objects when a node found nothing usable; on_error="stop" raises then)."""
+    return recognize_all([frame], graph=graph, models=models, goal=goal, mode="deterministic", on_error=on_error)[0]
 
 
 def segment_from_dict(d: dict) -> Segment:

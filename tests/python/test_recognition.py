@@ -271,3 +271,37 @@ def test_poses_by_odometry_give_the_same_tracks(tmp_path):
         truth = np.linalg.inv(given0) @ pose(a)
         assert np.linalg.norm(truth[:3, 3]) > 0.01  # the camera moves
         assert np.linalg.norm(truth[:3, 3] - (np.linalg.inv(est0) @ pose(b))[:3, 3]) < 0.01
+
+
+@pytest.mark.parametrize("track", [False, True])
+def test_a_frame_without_a_support_surface_is_a_warning_and_the_run_goes_on(tmp_path, capsys, track):
+    """The middle frame of three shows only a wall (no surface faces up): by default its line has
+    no objects and a warning naming the node and why, and the frames around it are recognized;
+    --on-error stop stops at it with one line."""
+    seq = tmp_path / "seq"
+    seq.mkdir()
+    for k, seed in enumerate([903, None, 905]):
+        f = mereo.synthetic.render(seed if seed is not None else 903).frame
+        if seed is None:
+            f.depth = np.full_like(f.depth, 1.5)  # a wall facing the camera
+        mereo.io.write_png_pair(seq, f"{k:04d}", f)
+    out = tmp_path / "r.jsonl"
+    extra = [] if track else ["--no-track"]
+    assert cli.main(["recognize", str(seq), "--out", str(out), "--mode", "deterministic", *extra]) == 0
+    lines = [json.loads(s) for s in out.read_text().splitlines()]
+    assert [r["frame"] for r in lines] == ["0000", "0001", "0002"]
+    assert lines[1]["objects"] == [] and lines[1]["primitives"] == []
+    assert any("table" in w and "support plane" in w for w in lines[1]["warnings"]), lines[1]["warnings"]
+    assert "warnings" not in lines[0] and "warnings" not in lines[2]
+    if not track:  # (a track is reported from its second agreeing view)
+        assert accepted(lines[0], "mug") and accepted(lines[2])
+    err = capsys.readouterr().err
+    assert "warning: frame 0001" in err and "1 frame(s) with a warning" in err
+    assert cli.main(["recognize", str(seq), "--out", str(out), "--on-error", "stop", *extra]) == 2
+    assert "support plane" in capsys.readouterr().err
+    # the same from Python: an empty result with the reason, or an error when asked for
+    wall = mereo.io.read(str(seq / "0001_depth.png"))
+    r = mereo.recognize(wall)
+    assert r["objects"] == [] and "support plane" in r["warnings"][0]
+    with pytest.raises(mereo.NodeError, match="node 'table'.*support plane"):
+        mereo.recognize(wall, on_error="stop")

@@ -66,6 +66,9 @@ void bind_core(py::module_& m) {
             f.pose = P;
           },
           "Camera-to-world 4x4 matrix, or None.")
+      .def_readwrite("gravity_aligned", &Frame::gravity_aligned,
+                     "The pose's world z points against gravity (False for 7-Scenes/3DMatch poses: the "
+                     "support plane then finds 'up' from the data).")
       .def("validate", &Frame::validate, "Raises ValueError if the images disagree in size.")
       .def("_buffer_address", [](const Frame& f, const std::string& which) -> std::uintptr_t {
         if (which == "color") return reinterpret_cast<std::uintptr_t>(f.color.data());

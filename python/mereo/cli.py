@@ -203,7 +203,8 @@ def cmd_recognize(args) -> int:
                   distractors=args.distractors or False)
     # one input that is a sequence (a folder, a TUM folder, synthetic:SEED --frames N) is tracked
     # (graphs/tabletop_tracking.yaml: "track" ids, false hypotheses dropped); separate inputs are not
-    track = len(args.inputs) == 1 and len(seq) > 1 and not args.no_track and not args.graph
+    # (--sequence: the inputs, e.g. a list of .pcd files, are one sequence and tracked too)
+    track = (len(args.inputs) == 1 or args.sequence) and len(seq) > 1 and not args.no_track and not args.graph
     graph = recognition.tabletop_graph(names or None, goal=args.goal, models_file=models_file,
                                        graph=args.graph, tracking=track, odometry=args.odometry)
     out = open(args.out, "w") if args.out else sys.stdout
@@ -219,6 +220,8 @@ def cmd_recognize(args) -> int:
     def on_result(r):
         nonlocal frames, warned
         res = recognition._result(r, args.on_error)
+        if res.get("warnings") and not res.get("source") and r["index"] < len(seq):
+            res["source"] = seq.sources[r["index"]]  # (a frame that failed: where it came from)
         out.write(json.dumps(res) + "\n")
         if res.get("warnings"):
             warned += 1
@@ -319,6 +322,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--overlay", metavar="DIR", help="write each frame with the recognized objects drawn")
     g.add_argument("--mode", choices=["parallel", "deterministic"], default="parallel")
     g.add_argument("--no-track", action="store_true", help="a sequence: recognize each frame on its own")
+    g.add_argument("--sequence", action="store_true",
+                   help="the inputs (e.g. a list of .pcd files) are the frames of one sequence: tracked")
     g.add_argument("--on-error", choices=["skip", "stop"], default="skip",
                    help="a frame where a node finds nothing usable (no support surface...): an empty result "
                         "with warnings and the run goes on (skip, the default), or stop with an error")

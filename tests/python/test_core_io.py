@@ -114,3 +114,66 @@ def test_cli_info_on_real_frames(real):
     assert r.returncode == 0, r.stderr
     assert "test34: 640x480" in r.stdout and "labels" in r.stdout
     assert "000001: 640x480" in r.stdout
+
+
+def _seven_scenes(tmp_path, f):
+    """A 7-Scenes/3DMatch folder of one frame: seq/frame-000000.{color,depth}.png and .pose.txt,
+    camera-intrinsics.txt beside seq/."""
+    seq = tmp_path / "seq-01"
+    seq.mkdir()
+    mereo.io.write_png_pair(seq, "x", f)
+    (seq / "x_rgb.png").rename(seq / "frame-000000.color.png")
+    (seq / "x_depth.png").rename(seq / "frame-000000.depth.png")
+    (seq / "intrinsics.json").unlink()
+    K = f.intrinsics
+    (tmp_path / "camera-intrinsics.txt").write_text(f"{K.fx} 0 {K.cx}\n0 {K.fy} {K.cy}\n0 0 1\n")
+    np.savetxt(seq / "frame-000000.pose.txt", np.asarray(f.pose))
+    return seq
+
+
+def test_seven_scenes_layout_and_nvlabs_camera_params(tmp_path):
+    f = mereo.synthetic.render(3).frame
+    seq = _seven_scenes(tmp_path, f)
+    (g,) = [mereo.io.open(seq)[i] for i in range(len(mereo.io.open(seq)))]
+    assert g.id == "frame-000000"
+    assert g.intrinsics.fx == pytest.approx(f.intrinsics.fx) and g.intrinsics.cy == pytest.approx(f.intrinsics.cy)
+    assert np.allclose(g.pose, f.pose, atol=1e-9) and not g.gravity_aligned  # a SLAM world: not trusted as up
+    assert np.nanmax(np.abs(g.depth - f.depth)) < 0.001  # millimetres
+    # NVlabs' camera_params.json (x_offset, y_offset, depth_scale) beside NAME-color.png/NAME-depth.png
+    nv = tmp_path / "nv"
+    nv.mkdir()
+    mereo.io.write_png_pair(nv, "cup", f, 4000.0)
+    (nv / "cup_rgb.png").rename(nv / "cup-color.png")
+    (nv / "cup_depth.png").rename(nv / "cup-depth.png")
+    (nv / "intrinsics.json").unlink()
+    K = f.intrinsics
+    (nv / "camera_params.json").write_text(json.dumps(
+        {"fx": K.fx, "fy": K.fy, "x_offset": K.cx, "y_offset": K.cy, "depth_scale": 4000.0}))
+    h = mereo.io.read(nv / "cup-depth.png")
+    assert h.intrinsics.cx == pytest.approx(K.cx) and np.nanmax(np.abs(h.depth - f.depth)) < 0.001
+    assert h.gravity_aligned and h.pose is None
+    # a pose file that is no rigid transform is named
+    (seq / "frame-000000.pose.txt").write_text("1 2 3\n")
+    with pytest.raises(mereo.InputError, match=r"frame-000000.pose.txt: expected a 4x4"):
+        mereo.io.read(seq)
+
+
+def test_real_seven_scenes_and_nvlabs_frames_are_read_and_runs_complete(real, tmp_path):
+    seq = mereo.io.open(real / "nvblox-3dmatch" / "seq-01")
+    assert len(seq) == 5
+    f = seq[0]
+    assert f.intrinsics.fx == pytest.approx(570.342205) and f.pose is not None and not f.gravity_aligned
+    g = mereo.io.read(real / "nv-6dof-graspnet" / "red_mug-depth.png")
+    assert g.intrinsics.fx == pytest.approx(616.3652954) and 0.3 < np.nanmedian(g.depth) < 0.6
+    # the hand-held sequence (its world not gravity-aligned) runs to its end: each frame names its
+    # support surface or says why there is none
+    out = tmp_path / "r.jsonl"
+    r = subprocess.run([sys.executable, "-m", "mereo.cli", "recognize", str(real / "nvblox-3dmatch" / "seq-01"),
+                        "--out", str(out)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    lines = [json.loads(s) for s in out.read_text().splitlines()]
+    assert len(lines) == 5
+    for line in lines:
+        assert line.get("support_plane") or line.get("warnings"), line["frame"]
+        assert line["source"].endswith(line["frame"] + ".depth.png")
+        assert "camera_pose" in line or line.get("warnings")

@@ -305,3 +305,16 @@ def test_a_frame_without_a_support_surface_is_a_warning_and_the_run_goes_on(tmp_
     assert r["objects"] == [] and "support plane" in r["warnings"][0]
     with pytest.raises(mereo.NodeError, match="node 'table'.*support plane"):
         mereo.recognize(wall, on_error="stop")
+
+
+def test_a_list_of_files_is_one_sequence_with_sequence(tmp_path):
+    """--sequence: separate inputs are the frames of one sequence and are tracked (each reported
+    object carries its track id); without it they are recognized one by one."""
+    files = ["synthetic:3", "synthetic:3", "synthetic:3"]  # the same view three times, with its pose
+    out = tmp_path / "r.jsonl"
+    assert cli.main(["recognize", *files, "--sequence", "--out", str(out)]) == 0
+    tracked = [json.loads(s) for s in out.read_text().splitlines()]
+    assert any(o.get("track") is not None for r in tracked[1:] for o in r["objects"])
+    assert cli.main(["recognize", *files, "--out", str(out)]) == 0
+    alone = [json.loads(s) for s in out.read_text().splitlines()]
+    assert all("track" not in o for r in alone for o in r["objects"])

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -107,13 +108,26 @@ Intrinsics read_intrinsics(const std::string& text_or_path, double* depth_scale)
       throw InputError(text_or_path + ": no such intrinsics file (or give fx,fy,cx,cy)");
     return Intrinsics::parse(text_or_path);
   }
+  // 7-Scenes/3DMatch's camera-intrinsics.txt: the 3x3 matrix as text
+  auto matrix_text = [&]() -> std::optional<Intrinsics> {
+    std::ifstream text(text_or_path);
+    double m[9];
+    int n = 0;
+    while (n < 9 && text >> m[n]) ++n;
+    std::string rest;
+    if (n != 9 || (text >> rest) || m[1] != 0 || m[3] != 0 || m[6] != 0 || m[7] != 0 || m[8] != 1) return std::nullopt;
+    return Intrinsics{m[0], m[4], m[2], m[5]};
+  };
   std::ifstream in(text_or_path);
   nlohmann::json j;
   try {
     in >> j;
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(text_or_path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+    if (const auto K = matrix_text(); K && K->valid()) return *K;
+    throw InputError(text_or_path + ": not valid JSON (byte " + std::to_string(e.byte) + ") nor a 3x3 camera matrix");
   }
+  if (!j.is_object())
+    if (const auto K = matrix_text(); K && K->valid()) return *K;
   // Either {"fx":..} or {"K": [[fx,0,cx],[0,fy,cy],[0,0,1]]}.
   auto number = [&](const char* key) -> double {
     if (!j.contains(key)) throw InputError(text_or_path + ": missing field '" + key + "'");
@@ -131,6 +145,8 @@ Intrinsics read_intrinsics(const std::string& text_or_path, double* depth_scale)
     } catch (const nlohmann::json::exception&) {
       throw InputError(text_or_path + ": field 'K' must be a 3x3 matrix of numbers");
     }
+  } else if (!j.contains("cx") && j.contains("x_offset")) {  // NVlabs' camera_params.json
+    K = {number("fx"), number("fy"), number("x_offset"), number("y_offset")};
   } else {
     K = {number("fx"), number("fy"), number("cx"), number("cy")};
   }

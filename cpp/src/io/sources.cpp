@@ -33,7 +33,9 @@ struct PairPattern {
   const char* color;
   const char* depth;
 };
-constexpr PairPattern kPatterns[] = {{"_rgb", "_depth"}, {"-color", "-depth"}, {"_color", "_depth"}};
+// (and 7-Scenes/3DMatch: frame-NNNNNN.color.png + frame-NNNNNN.depth.png, frame-NNNNNN.pose.txt)
+constexpr PairPattern kPatterns[] = {{"_rgb", "_depth"}, {"-color", "-depth"}, {"_color", "_depth"},
+                                     {".color", ".depth"}};
 const char* kColorExts[] = {".png", ".jpg", ".jpeg", ".ppm"};
 const char* kDepthExts[] = {".png", ".pgm", ".tiff", ".exr"};
 
@@ -51,16 +53,19 @@ std::pair<Intrinsics, double> image_camera(const fs::path& dir, const ReadOption
                                            std::optional<Intrinsics> fallback) {
   double scale = 0;
   std::optional<Intrinsics> K = o.intrinsics;
-  for (const char* name : {"intrinsics.json", "camera.json"}) {
-    const fs::path p = dir / name;
-    if (fs::is_regular_file(p)) {
+  // ours, NVlabs' (camera_params.json), 7-Scenes/3DMatch's (camera-intrinsics.txt, beside the
+  // images or beside their sequence's folder)
+  bool found = false;
+  for (const fs::path& d : {dir, dir.parent_path()})
+    for (const char* name : {"intrinsics.json", "camera.json", "camera_params.json", "camera-intrinsics.txt"}) {
+      const fs::path p = d / name;
+      if (found || (d != dir && std::string(name) != "camera-intrinsics.txt") || !fs::is_regular_file(p)) continue;
       double s = 0;
       const Intrinsics fileK = read_intrinsics(p.string(), &s);
       if (!K) K = fileK;
       if (s > 0) scale = s;
-      break;
+      found = true;
     }
-  }
   if (!K) K = fallback;
   if (!K)
     throw InputError(what + ": no intrinsics (pass --intrinsics fx,fy,cx,cy or a JSON file, or put "
@@ -70,11 +75,30 @@ std::pair<Intrinsics, double> image_camera(const fs::path& dir, const ReadOption
   return {*K, scale};
 }
 
+/// A 7-Scenes/3DMatch pose file: the 4x4 camera-to-world matrix as text.
+Pose read_pose_matrix(const std::string& path) {
+  std::ifstream in(path);
+  Eigen::Matrix4d M;
+  for (int k = 0; k < 16; ++k)
+    if (!(in >> M(k / 4, k % 4)) || !std::isfinite(M(k / 4, k % 4)))
+      throw InputError(path + ": expected a 4x4 camera-to-world matrix (16 numbers)");
+  const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
+  if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 || M.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+    throw InputError(path + ": not a rigid transform (rotation and translation, last row 0 0 0 1)");
+  Pose P = Pose::Identity();
+  P.linear() = R, P.translation() = M.topRightCorner<3, 1>();
+  return P;
+}
+
 void add_pair(Sequence& seq, const std::string& id, const std::string& color,
               const std::string& depth, const Intrinsics& K, double scale) {
+  // 7-Scenes/3DMatch: frame-N.pose.txt beside frame-N.depth.png, in a world that SLAM chose
+  const fs::path pose_file = fs::path(depth).parent_path() / (id + ".pose.txt");
+  const std::string pose = fs::is_regular_file(pose_file) ? pose_file.string() : std::string();
   seq.add({id, depth, [=] {
              Frame f = read_png_pair(color, depth, K, scale);
              f.id = id;
+             if (!pose.empty()) f.pose = read_pose_matrix(pose), f.gravity_aligned = false;
              return f;
            }});
 }
@@ -210,7 +234,8 @@ void open_folder(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
   }
   if (seq.size() == before)
     throw InputError(dir.string() + ": no frames found (expected .pcd files, NAME_rgb.png + NAME_depth.png, "
-                                    "NAME-color.png + NAME-depth.png, rgb/ + depth/ folders, or a TUM folder)");
+                                    "NAME-color.png + NAME-depth.png, frame-N.color.png + frame-N.depth.png, "
+                                    "rgb/ + depth/ folders, or a TUM folder)");
 }
 
 void open_synthetic(Sequence& seq, const std::string& input, const ReadOptions& o) {

@@ -30,7 +30,7 @@ graph::NodeSpec support_plane_node() {
       extension::SupportPlaneOptions q = p;
       if (ctx.has_input("frame")) {
         const Frame& f = ctx.input<Frame>("frame");
-        if (f.pose) q.up = f.pose->linear().transpose() * Eigen::Vector3d::UnitZ();
+        if (f.pose && f.gravity_aligned) q.up = f.pose->linear().transpose() * Eigen::Vector3d::UnitZ();
       }
       auto plane = extension::find_support_plane(ctx.input<Cloud>("cloud"), ctx.input<NormalMap>("normals"), q);
       ctx.output("roi", plane.roi);

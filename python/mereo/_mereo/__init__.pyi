@@ -83,6 +83,14 @@ class Frame:
         Raises ValueError if the images disagree in size.
         """
     @property
+    def gravity_aligned(self) -> bool:
+        """
+        The pose's world z points against gravity (False for 7-Scenes/3DMatch poses: the support plane then finds 'up' from the data).
+        """
+    @gravity_aligned.setter
+    def gravity_aligned(self, arg0: bool) -> None:
+        ...
+    @property
     def pose(self) -> typing.Any:
         """
         Camera-to-world 4x4 matrix, or None.

@@ -19,6 +19,10 @@ struct Frame {
   ColorImage color;        ///< H x W x 3, RGB; may be empty when the source has none
   DepthImage depth;        ///< H x W metres, NaN where missing
   std::optional<Pose> pose;  ///< camera-to-world, when the source knows it
+  /// The pose's world z points against gravity (the renderer's, a TUM groundtruth as mereo has
+  /// always taken it); false where the source says its world is arbitrary (7-Scenes/3DMatch
+  /// poses from SLAM): the support plane then finds "up" from the data.
+  bool gravity_aligned = true;
   /// XYZ per pixel as the source gave it (PCD files); empty when it is to be computed
   /// from depth and intrinsics (see extension::back_project).
   Cloud cloud;

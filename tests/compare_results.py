@@ -43,8 +43,8 @@ _REAL_INPUTS = [
         "depth_scale": 1000.0})
       for n in ["red_mug", "white_mug", "white_bowl", "green_bowl", "cylinder"]],
     ("open3d/TUM_depth.png", {"intrinsics": "525,525,319.5,239.5", "depth_scale": 5000.0}),
-    ("open3d/SUN_depth.png", {"intrinsics": "525,525,319.5,239.5", "depth_scale": 1000.0}),
-    ("open3d/NYU_depth.pgm", {"intrinsics": "525,525,319.5,239.5", "depth_scale": 1000.0}),
+    ("open3d/SUN_depth.png", {"intrinsics": "525,525,319.5,239.5", "depth_scale": 1000.0, "depth_format": "sun3d"}),
+    ("open3d/NYU_depth.pgm", {"intrinsics": "525,525,319.5,239.5", "depth_format": "nyu-raw"}),
     *[(f"nvblox-3dmatch/seq-01/frame-000{n}.depth.png", {"intrinsics": "570.342,570.342,320,240", "depth_scale": 1000.0})
       for n in ["000", "001", "002", "116", "422"]],
 ]

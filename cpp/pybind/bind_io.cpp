@@ -13,8 +13,9 @@ using mereo::py_util::to_numpy;
 namespace {
 
 mereo::io::ReadOptions read_options(const py::object& intrinsics, double depth_scale, int frames,
-                                    bool noise, const py::object& distractors) {
+                                    bool noise, const py::object& distractors, const std::string& depth_format) {
   mereo::io::ReadOptions o;
+  o.depth_format = mereo::io::depth_format(depth_format);
   if (py::isinstance<mereo::Intrinsics>(intrinsics))
     o.intrinsics = intrinsics.cast<mereo::Intrinsics>();
   else if (!intrinsics.is_none())
@@ -63,32 +64,36 @@ void bind_io(py::module_& m) {
 
   const char* kOptionsDoc =
       "intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre "
-      "(0 = the format's default); frames, noise, distractors: for synthetic:SEED (distractors: False, True or "
+      "(0 = the format's default); depth_format: 'units', or 'sun3d' / 'nyu-raw' for those datasets' 16-bit "
+      "depth (the files do not say); frames, noise, distractors: for synthetic:SEED (distractors: False, True or "
       "'beside' for handle-like tori beside some jars, 'leaning' for rings leaning on jars).";
   m.def(
       "open",
-      [](py::object inputs, py::object intrinsics, double depth_scale, int frames, bool noise, py::object distractors) {
+      [](py::object inputs, py::object intrinsics, double depth_scale, int frames, bool noise, py::object distractors,
+         const std::string& depth_format) {
         std::vector<std::string> list;
         if (py::isinstance<py::str>(inputs) || py::hasattr(inputs, "__fspath__"))
           list.push_back(py::str(inputs));
         else
           for (auto item : inputs) list.push_back(py::str(item));
-        const auto o = read_options(intrinsics, depth_scale, frames, noise, distractors);
+        const auto o = read_options(intrinsics, depth_scale, frames, noise, distractors, depth_format);
         return io::open(list, o);
       },
       py::arg("inputs"), py::kw_only(), py::arg("intrinsics") = py::none(), py::arg("depth_scale") = 0.0,
       py::arg("frames") = 1, py::arg("noise") = true, py::arg("distractors") = false,
+      py::arg("depth_format") = "units",
       (std::string("Opens files, folders or 'synthetic:SEED' as a Sequence. ") + kOptionsDoc).c_str());
   m.def(
       "read",
-      [](py::object input, py::object intrinsics, double depth_scale, bool noise, py::object distractors) {
-        const auto o = read_options(intrinsics, depth_scale, 1, noise, distractors);
+      [](py::object input, py::object intrinsics, double depth_scale, bool noise, py::object distractors,
+         const std::string& depth_format) {
+        const auto o = read_options(intrinsics, depth_scale, 1, noise, distractors, depth_format);
         const std::string path = py::str(input);
         py::gil_scoped_release release;
         return io::read(path, o);
       },
       py::arg("input"), py::kw_only(), py::arg("intrinsics") = py::none(), py::arg("depth_scale") = 0.0,
-      py::arg("noise") = true, py::arg("distractors") = false,
+      py::arg("noise") = true, py::arg("distractors") = false, py::arg("depth_format") = "units",
       (std::string("The first frame of a .pcd file, a PNG pair, a folder, a TUM folder or 'synthetic:SEED'. ") +
        kOptionsDoc).c_str());
   m.def("write_pcd", [](py::object path, const mereo::Frame& f) { io::write_pcd(py::str(path), f); },

@@ -156,7 +156,7 @@ def cmd_render(args) -> int:
 
 
 def cmd_info(args) -> int:
-    seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale)
+    seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale, depth_format=args.depth_format)
     for i in _progress(range(len(seq)), len(seq), "info"):
         f = seq[i]
         z = f.depth[np.isfinite(f.depth)]
@@ -199,7 +199,8 @@ def cmd_recognize(args) -> int:
 
         before = set(load_models().names())
         names = [n for n in load_models(models_file).names() if n not in before]
-    seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale, frames=args.frames,
+    seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale,
+                  depth_format=args.depth_format, frames=args.frames,
                   distractors=args.distractors or False)
     # one input that is a sequence (a folder, a TUM folder, synthetic:SEED --frames N) is tracked
     # (graphs/tabletop_tracking.yaml: "track" ids, false hypotheses dropped); separate inputs are not
@@ -307,6 +308,8 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("inputs", nargs="+")
     i.add_argument("--intrinsics", help="fx,fy,cx,cy or a JSON file")
     i.add_argument("--depth-scale", type=float, default=0.0, help="depth units per metre")
+    i.add_argument("--depth-format", choices=["units", "sun3d", "nyu-raw"], default="units",
+                   help="16-bit depth as plain units (default), SUN3D's bit-rotated millimetres or NYU's raw Kinect values")
     i.add_argument("--preview", metavar="DIR", help="write a colour | depth picture per frame")
     i.set_defaults(run=cmd_info)
 
@@ -317,6 +320,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--goal", help="one concept to look for; it drives the top-down search (e.g. mug)")
     g.add_argument("--intrinsics", help="fx,fy,cx,cy or a JSON file")
     g.add_argument("--depth-scale", type=float, default=0.0, help="depth units per metre")
+    g.add_argument("--depth-format", choices=["units", "sun3d", "nyu-raw"], default="units",
+                   help="16-bit depth as plain units (default), SUN3D's bit-rotated millimetres or NYU's raw Kinect values")
     g.add_argument("--frames", type=int, default=1, help="frames of a synthetic:SEED orbit")
     g.add_argument("--out", help="write the JSON lines here (default: standard output)")
     g.add_argument("--overlay", metavar="DIR", help="write each frame with the recognized objects drawn")

@@ -33,8 +33,30 @@ cv::Mat read_image(const std::string& path, int flags) {
 
 }  // namespace
 
+DepthFormat depth_format(const std::string& name) {
+  if (name == "units" || name.empty()) return DepthFormat::Units;
+  if (name == "sun3d") return DepthFormat::Sun3d;
+  if (name == "nyu-raw") return DepthFormat::NyuRaw;
+  throw InputError("depth format '" + name + "' is not one of: units, sun3d, nyu-raw");
+}
+
+namespace {
+/// Metres of a 16-bit depth value in `format` (0 = none).
+float depth_metres(std::uint16_t v, DepthFormat format, float inv_scale) {
+  switch (format) {
+    case DepthFormat::Sun3d: return std::uint16_t((v >> 3) | (v << 13)) * inv_scale;
+    case DepthFormat::NyuRaw: {
+      const int raw = ((v & 0xff) << 8) | (v >> 8);  // the payload is little-endian
+      return raw < 2047 ? float(351.3 / (1092.5 - raw)) : 0.f;
+    }
+    case DepthFormat::Units: break;
+  }
+  return v * inv_scale;
+}
+}  // namespace
+
 Frame read_png_pair(const std::string& color_path, const std::string& depth_path,
-                    const Intrinsics& intrinsics, double depth_scale) {
+                    const Intrinsics& intrinsics, double depth_scale, DepthFormat format) {
   if (!(depth_scale > 0)) throw InputError(depth_path + ": the depth scale must be positive");
   const cv::Mat bgr = read_image(color_path, cv::IMREAD_COLOR);
   const cv::Mat raw = read_image(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
@@ -55,8 +77,11 @@ Frame read_png_pair(const std::string& color_path, const std::string& depth_path
     for (int u = 0; u < raw.cols; ++u) {
       float z;
       switch (raw.depth()) {
-        case CV_16U: z = raw.at<std::uint16_t>(v, u) * inv; break;
-        case CV_8U: z = raw.at<std::uint8_t>(v, u) * inv; break;
+        case CV_16U: z = depth_metres(raw.at<std::uint16_t>(v, u), format, inv); break;
+        case CV_8U:
+          if (format != DepthFormat::Units) throw InputError(depth_path + ": a SUN3D or NYU depth image is 16-bit");
+          z = raw.at<std::uint8_t>(v, u) * inv;
+          break;
         case CV_32F: z = raw.at<float>(v, u); break;  // float depth is in metres already
         default:
           throw InputError(depth_path + ": unsupported depth image type (need 16-bit or float)");

@@ -91,12 +91,12 @@ Pose read_pose_matrix(const std::string& path) {
 }
 
 void add_pair(Sequence& seq, const std::string& id, const std::string& color,
-              const std::string& depth, const Intrinsics& K, double scale) {
+              const std::string& depth, const Intrinsics& K, double scale, DepthFormat format) {
   // 7-Scenes/3DMatch: frame-N.pose.txt beside frame-N.depth.png, in a world that SLAM chose
   const fs::path pose_file = fs::path(depth).parent_path() / (id + ".pose.txt");
   const std::string pose = fs::is_regular_file(pose_file) ? pose_file.string() : std::string();
   seq.add({id, depth, [=] {
-             Frame f = read_png_pair(color, depth, K, scale);
+             Frame f = read_png_pair(color, depth, K, scale, format);
              f.id = id;
              if (!pose.empty()) f.pose = read_pose_matrix(pose), f.gravity_aligned = false;
              return f;
@@ -187,7 +187,7 @@ void open_tum(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
     const Intrinsics Kc = K;
     const double sc = scale;
     seq.add({id, depth_path, [=] {
-               Frame f = read_png_pair(color, depth_path, Kc, sc);
+               Frame f = read_png_pair(color, depth_path, Kc, sc, o.depth_format);
                f.id = id;
                f.timestamp = t;
                f.pose = pose;
@@ -213,7 +213,7 @@ void open_folder(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
     for (const auto& d : depths) {
       const std::string stem = d.stem().string();
       const std::string color = find_with_ext(dir / "rgb", stem, kColorExts, 4);
-      if (!color.empty()) add_pair(seq, stem, color, d.string(), K, scale);
+      if (!color.empty()) add_pair(seq, stem, color, d.string(), K, scale, o.depth_format);
     }
   } else {
     std::vector<std::array<std::string, 3>> pairs;
@@ -229,7 +229,7 @@ void open_folder(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
     }
     if (!pairs.empty()) {
       const auto [K, scale] = image_camera(dir, o, dir.string(), 1000.0, std::nullopt);
-      for (const auto& [stem, color, depth] : pairs) add_pair(seq, stem, color, depth, K, scale);
+      for (const auto& [stem, color, depth] : pairs) add_pair(seq, stem, color, depth, K, scale, o.depth_format);
     }
   }
   if (seq.size() == before)
@@ -291,7 +291,7 @@ Sequence open(const std::vector<std::string>& inputs, const ReadOptions& options
       throw InputError(input + ": unknown input (expected a .pcd file, NAME_depth.png with NAME_rgb.png, "
                                "NAME-depth.png with NAME-color.png, a folder, or synthetic:SEED)");
     const auto [K, scale] = image_camera(p.parent_path(), options, input, 1000.0, std::nullopt);
-    add_pair(seq, stem, color, depth, K, scale);
+    add_pair(seq, stem, color, depth, K, scale, options.depth_format);
   }
   return seq;
 }

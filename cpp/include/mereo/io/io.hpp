@@ -15,6 +15,14 @@
 
 namespace mereo::io {
 
+/// How a 16-bit depth image stores depth: plain units (depth_scale per metre, the common case);
+/// SUN3D's bit-rotated units ((v >> 3) | (v << 13), then millimetres); NYU Depth v2's raw Kinect
+/// values (a PGM whose payload is little-endian, 2047 = none; metres = 351.3 / (1092.5 - raw), as
+/// Open3D's NYU reader). The files do not say which: the caller does.
+enum class DepthFormat { Units, Sun3d, NyuRaw };
+/// "units", "sun3d", "nyu-raw"; throws InputError listing them.
+DepthFormat depth_format(const std::string& name);
+
 struct ReadOptions {
   /// Intrinsics for image inputs; when unset: intrinsics.json beside the images, TUM's
   /// default (525, 525, 319.5, 239.5) for TUM folders, a fit to the cloud for PCD files.
@@ -22,6 +30,7 @@ struct ReadOptions {
   /// Depth units per metre for 16-bit depth images; 0 = the format's default
   /// (intrinsics.json's "depth_scale" or 1000 for PNG pairs, 5000 for TUM folders).
   double depth_scale = 0.0;
+  DepthFormat depth_format = DepthFormat::Units;  ///< 16-bit depth images: see DepthFormat
   /// "synthetic:SEED": number of frames (the camera orbits the table), and noise on/off.
   int synthetic_frames = 1;
   bool synthetic_noise = true;
@@ -62,7 +71,8 @@ void write_pcd(const std::string& path, const Frame& frame);
 
 /// Reads a colour PNG/JPEG/PPM and a 16-bit (or 32-bit float, metres) depth image.
 Frame read_png_pair(const std::string& color_path, const std::string& depth_path,
-                    const Intrinsics& intrinsics, double depth_scale);
+                    const Intrinsics& intrinsics, double depth_scale,
+                    DepthFormat format = DepthFormat::Units);
 /// Writes DIR/NAME_rgb.png, DIR/NAME_depth.png (16-bit, `depth_scale` units per metre, 0 =
 /// missing) and DIR/intrinsics.json. Returns the two paths written.
 std::vector<std::string> write_png_pair(const std::string& dir, const std::string& name,

@@ -64,10 +64,6 @@ const std::vector<Eigen::Vector3d>& subsample_into(const std::vector<Eigen::Vect
   return buffer;
 }
 
-double range_residual(const Segment& s, const Eigen::Vector3d& x) {
-  return s.visit([&](const auto& g) { return g.range_residual(x); });
-}
-
 Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& points, Residual residual) {
   Segment s = s0;
   if (points.size() < 4) return s;

@@ -32,9 +32,6 @@ void levenberg_marquardt(Eigen::VectorXd& x, int N,
 ///    cylinder's radius by up to 1 mm at 1.5 m); other classes: geometric.
 enum class Residual { Geometric, AlongRay };
 
-/// The shape's range residual of camera-frame point x (Residual::AlongRay).
-double range_residual(const Segment& s, const Eigen::Vector3d& x);
-
 /// The shape refined to the points: its closed-form fit where it has one (planes: PCA), else
 /// Levenberg-Marquardt on `residual` from `s`. Sets residual (RMS of the geometric distance).
 Segment refit_points(const Segment& s, const std::vector<Eigen::Vector3d>& points,

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "matching/json.hpp"
+#include "shapes/json.hpp"
 
 namespace mereo::matching {
 namespace {
@@ -96,12 +97,7 @@ namespace detail {
 Json segment_to_json(const Segment& s) {
   Json j;
   j["class"] = s.class_name();
-  for (const auto& [name, value] : s.fields())  // the class's own, mereo/shapes/*.cpp
-    std::visit([&, key = name](const auto& v) {
-      using V = std::decay_t<decltype(v)>;
-      if constexpr (std::is_same_v<V, Eigen::Vector3d>) j[key] = Json::array({v.x(), v.y(), v.z()});
-      else j[key] = v;
-    }, value);
+  shapes::fields_to_json(s.fields(), j);  // the class's own, mereo/shapes/*.cpp
   j["inliers"] = s.inliers, j["residual"] = s.residual, j["hue"] = s.hue;
   return j;
 }

@@ -144,19 +144,7 @@ std::optional<double> Cone::attribute(const std::string& key) const {
 }
 
 void Cone::outline(Outline& out) const {
-  const Eigen::Vector3d a = axis.normalized();
-  const Eigen::Vector3d top = point + 0.5 * height * a, bottom = point - 0.5 * height * a;
-  const double r1 = radius_at(0.5 * height), r0 = radius_at(-0.5 * height);
-  out.lines.push_back(circle(top, a, r1));
-  out.lines.push_back(circle(bottom, a, r0));
-  const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
-  const double phi = std::atan2(-e1.dot(point), e2.dot(point));
-  for (double f : {phi, phi + M_PI}) {
-    const Eigen::Vector3d u = std::cos(f) * e1 + std::sin(f) * e2;
-    out.lines.push_back({top + r1 * u, bottom + r0 * u});
-  }
-  const Eigen::Vector3d up = a.dot(-Eigen::Vector3d::UnitY()) >= 0 ? top : bottom;
-  if (!out.anchor) out.anchor = Eigen::Vector3d(up - std::max(r0, r1) * Eigen::Vector3d::UnitY());
+  frustum_outline(point, axis, height, radius_at(-0.5 * height), radius_at(0.5 * height), out);
 }
 
 void Cone::tracked(TrackedParams& t) const {

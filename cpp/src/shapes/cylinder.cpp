@@ -100,21 +100,7 @@ std::optional<double> Cylinder::attribute(const std::string& key) const {
   return std::nullopt;
 }
 
-void Cylinder::outline(Outline& out) const {
-  const Eigen::Vector3d a = axis.normalized();
-  const Eigen::Vector3d top = point + 0.5 * height * a, bottom = point - 0.5 * height * a;
-  out.lines.push_back(circle(top, a, radius));
-  out.lines.push_back(circle(bottom, a, radius));
-  // silhouette: where the wall's normal is perpendicular to the ray to the axis
-  const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
-  const double phi = std::atan2(-e1.dot(point), e2.dot(point));
-  for (double f : {phi, phi + M_PI}) {
-    const Eigen::Vector3d r = radius * (std::cos(f) * e1 + std::sin(f) * e2);
-    out.lines.push_back({top + r, bottom + r});
-  }
-  const Eigen::Vector3d up = a.dot(-Eigen::Vector3d::UnitY()) >= 0 ? top : bottom;
-  if (!out.anchor) out.anchor = Eigen::Vector3d(up - radius * Eigen::Vector3d::UnitY());
-}
+void Cylinder::outline(Outline& out) const { frustum_outline(point, axis, height, radius, radius, out); }
 
 void Cylinder::tracked(TrackedParams& t) const {
   for (int i = 0; i < 3; ++i) t.add(point(i), false);

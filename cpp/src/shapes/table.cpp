@@ -2,6 +2,8 @@
 #include "mereo/shapes/table.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -24,15 +26,27 @@ PrimitiveClass PrimitiveClass::at(std::size_t index) {
 
 Geometry PrimitiveClass::make() const { return make_at(index_, std::make_index_sequence<count()>()); }
 
-const char* PrimitiveClass::name() const {
-  return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::name; }, make());
+namespace {
+/// The classes' static traits, gathered once (the detector asks for them per candidate).
+struct Traits {
+  const char* name;
+  int sample_size;
+  bool thin;
+};
+template <std::size_t... I>
+std::array<Traits, sizeof...(I)> gather(std::index_sequence<I...>) {
+  return {Traits{std::variant_alternative_t<I, Geometry>::name, std::variant_alternative_t<I, Geometry>::sample_size,
+                 std::variant_alternative_t<I, Geometry>::thin}...};
 }
-int PrimitiveClass::sample_size() const {
-  return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::sample_size; }, make());
+const Traits& traits(std::size_t i) {
+  static const auto table = gather(std::make_index_sequence<PrimitiveClass::count()>());
+  return table[i];
 }
-bool PrimitiveClass::thin() const {
-  return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::thin; }, make());
-}
+}  // namespace
+
+const char* PrimitiveClass::name() const { return traits(index_).name; }
+int PrimitiveClass::sample_size() const { return traits(index_).sample_size; }
+bool PrimitiveClass::thin() const { return traits(index_).thin; }
 
 const char* to_string(PrimitiveClass c) { return c.name(); }
 
@@ -79,6 +93,23 @@ std::vector<Eigen::Vector3d> circle(const Eigen::Vector3d& centre, const Eigen::
     out.push_back(centre + radius * (std::cos(a) * e1 + std::sin(a) * e2));
   }
   return out;
+}
+
+void frustum_outline(const Eigen::Vector3d& point, const Eigen::Vector3d& axis, double height, double r0, double r1,
+                     Outline& out) {
+  const Eigen::Vector3d a = axis.normalized();
+  const Eigen::Vector3d top = point + 0.5 * height * a, bottom = point - 0.5 * height * a;
+  out.lines.push_back(circle(top, a, r1));
+  out.lines.push_back(circle(bottom, a, r0));
+  // silhouette: where the wall's normal is perpendicular to the ray to the axis
+  const Eigen::Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  const double phi = std::atan2(-e1.dot(point), e2.dot(point));
+  for (double f : {phi, phi + M_PI}) {
+    const Eigen::Vector3d u = std::cos(f) * e1 + std::sin(f) * e2;
+    out.lines.push_back({top + r1 * u, bottom + r0 * u});
+  }
+  const Eigen::Vector3d up = a.dot(-Eigen::Vector3d::UnitY()) >= 0 ? top : bottom;
+  if (!out.anchor) out.anchor = Eigen::Vector3d(up - std::max(r0, r1) * Eigen::Vector3d::UnitY());
 }
 
 std::optional<double> number(const FieldValue& v) {

@@ -20,6 +20,7 @@
 
 #include "mereo/core/error.hpp"
 #include "raycast.hpp"
+#include "shapes/json.hpp"
 
 namespace mereo::synthetic {
 
@@ -545,13 +546,7 @@ nlohmann::json vec_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}
 nlohmann::json shape_json(const Shape& s) {
   nlohmann::json j;
   // a class of the shape table: its own fields (mereo/shapes/*.cpp), as in the results
-  if (const auto seg = s.segment())
-    for (const auto& [name, value] : seg->fields())
-      std::visit([&, key = name](const auto& v) {
-        using V = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<V, Eigen::Vector3d>) j[key] = vec_json(v);
-        else j[key] = v;
-      }, value);
+  if (const auto seg = s.segment()) shapes::fields_to_json(seg->fields(), j);
   // and what the renderer adds
   if (s.cls == "torus") {
     j["arc_reference"] = vec_json(s.axis2), j["arc_start"] = s.arc_start, j["arc_end"] = s.arc_end;

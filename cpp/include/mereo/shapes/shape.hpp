@@ -92,6 +92,12 @@ struct TrackedParams {
 std::vector<Eigen::Vector3d> circle(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius,
                                     int samples = 64);
 
+/// The outline of a frustum about `axis` (a cylinder: equal radii): its end circles at
+/// point -/+ height/2 (radii r0, r1), its two silhouette lines as seen from the origin (the
+/// camera), and a label anchor above its upper end.
+void frustum_outline(const Eigen::Vector3d& point, const Eigen::Vector3d& axis, double height, double r0, double r1,
+                     Outline& out);
+
 /// Angle-free helpers shared by the shapes.
 inline Eigen::Vector3d across(const Eigen::Vector3d& q, const Eigen::Vector3d& unit_axis) {
   return q - unit_axis * unit_axis.dot(q);

@@ -60,6 +60,39 @@ Cloud make_cloud(int rows, int cols, F depth) {
   return extension::back_project(d, Intrinsics::kinect_vga());
 }
 
+/// An axis-aligned box in the world (z up).
+struct Box {
+  Eigen::Vector3d lo, hi;
+};
+
+/// Exact depth of a room seen from `eye` looking at `target`: the floor (z = 0) and boxes, as the
+/// Kinect intrinsics see them; `up_in_camera` is world up in the camera frame.
+Cloud room_cloud(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const std::vector<Box>& boxes,
+                 Eigen::Vector3d& up_in_camera) {
+  const Intrinsics K = Intrinsics::kinect_vga();
+  const Eigen::Vector3d z = (target - eye).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R;  // world from camera
+  R << x, y, z;
+  up_in_camera = R.transpose() * Eigen::Vector3d::UnitZ();
+  return make_cloud(480, 640, [&](int u, int v) {
+    const Eigen::Vector3d ray_c((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+    const Eigen::Vector3d r = R * ray_c;
+    double t = r.z() < 0 ? -eye.z() / r.z() : INFINITY;  // the floor
+    for (const Box& b : boxes) {  // slab test
+      double t0 = 0, t1 = INFINITY;
+      for (int i = 0; i < 3; ++i) {
+        double a = (b.lo[i] - eye[i]) / r[i], c = (b.hi[i] - eye[i]) / r[i];
+        if (a > c) std::swap(a, c);
+        t0 = std::max(t0, a), t1 = std::min(t1, c);
+      }
+      if (t0 <= t1) t = std::min(t, t0);
+    }
+    return t < 8 ? t : double(kNaN);  // ray_c.z() = 1: t is the depth
+  });
+}
+
 }  // namespace
 
 TEST(Normals, SmoothSurfacesOfNoisyFramesGetAccurateNormals) {
@@ -214,6 +247,37 @@ TEST(DepthFilter, ReducesNoiseAndKeepsStepsSharp) {
   // missing stays missing
   step(5, 5) = kNaN;
   EXPECT_TRUE(std::isnan(signal::filter_depth(step)(5, 5)));
+}
+
+TEST(SupportPlane, TheDeskWithObjectsInViewOverALargerFloorNotTheTopOfABox) {
+  // a desk (0.6 x 0.5 m, 0.72 m high, two legs) in the middle of the view, a mug-sized block and a
+  // flat box (0.2 x 0.15 m, 6 cm high: a higher plane, too small to be a support) on it; the floor
+  // fills more of the image than the desk does
+  const std::vector<Box> desk_and_things = {
+      {{-0.3, -0.25, 0.69}, {0.3, 0.25, 0.72}}, {{-0.28, -0.23, 0}, {-0.25, -0.2, 0.69}},
+      {{0.25, -0.23, 0}, {0.28, -0.2, 0.69}},   {{-0.05, 0.0, 0.72}, {0.03, 0.08, 0.82}},
+      {{0.05, -0.2, 0.72}, {0.25, -0.05, 0.78}}};
+  for (const double azimuth : {0.0, 0.7}) {
+    const Eigen::Vector3d eye(0.9 * std::sin(azimuth), -0.9 * std::cos(azimuth), 1.5);
+    Eigen::Vector3d up;
+    const Cloud cloud = room_cloud(eye, {0, 0, 0.6}, desk_and_things, up);
+    std::size_t floor_pixels = 0, desk_pixels = 0;
+    for (int v = 0; v < cloud.rows(); ++v)
+      for (int u = 0; u < cloud.cols(); ++u) {
+        const Eigen::Vector3d x(cloud(v, u, 0), cloud(v, u, 1), cloud(v, u, 2));
+        floor_pixels += std::abs(1.5 + up.dot(x)) < 0.003;
+        desk_pixels += std::abs(1.5 - 0.72 + up.dot(x)) < 0.003;
+      }
+    ASSERT_GT(floor_pixels, desk_pixels) << "the floor is the larger plane in view";
+    const auto plane = extension::find_support_plane(cloud, extension::estimate_normals(cloud));
+    EXPECT_LT(angle_deg(plane.normal, up), 1.0) << azimuth;
+    EXPECT_NEAR(plane.d, 1.5 - 0.72, 0.01) << "azimuth " << azimuth << ": not the desk";
+  }
+  // without the desk the floor is the support
+  Eigen::Vector3d up;
+  const Cloud floor_only = room_cloud({0, -1.6, 1.5}, {0, 0, 0.5}, {{{-0.1, -0.1, 0}, {0.1, 0.1, 0.3}}}, up);
+  const auto floor = extension::find_support_plane(floor_only, extension::estimate_normals(floor_only));
+  EXPECT_NEAR(floor.d, 1.5, 0.01);
 }
 
 TEST(SupportPlane, FoundOnEverySyntheticFrameWithinOneDegree) {

@@ -31,6 +31,14 @@ struct SupportPlaneOptions {
   int hypotheses = 200;                ///< plane hypotheses (a seed point and its normal)
   int step = 6;                        ///< pixel grid step for scoring hypotheses
   int min_inliers = 2000;              ///< fewest full-resolution inliers of a support plane
+  /// Distinct planes (the best hypotheses after non-maximum suppression) refitted and compared.
+  /// Each is weighed by its pixels and the pixels standing on it, four times near the centre of
+  /// the view; of parallel planes, the highest whose weight is at least min_share of the heaviest
+  /// and whose polygon has at least min_area (square metres; not the top of a box) is the
+  /// support (a desk over a larger carpet, a coffee table over the floor).
+  int candidates = 4;
+  double min_share = 0.3;
+  double min_area = 0.05;
   /// The region of interest: points between min_height and max_height above the plane whose
   /// projection falls inside the polygon shrunk by `margin` (metres). min_height is its value
   /// at 1 m and grows with z^2 beyond (depth noise), so that the table's own noisy points stay out.
@@ -49,6 +57,9 @@ inline const Fields<SupportPlaneOptions>& SupportPlaneOptions::fields() {
       field("seed", &O::seed, 0, 1e15, "random seed of the plane hypotheses"),
       field("epsilon", &O::epsilon, 1e-4, 0.1, "inlier distance at 1 m, metres"),
       field("min_inliers", &O::min_inliers, 10, 1e7, "fewest points of the plane"),
+      field("candidates", &O::candidates, 1, 50, "distinct planes compared"),
+      field("min_share", &O::min_share, 0, 1, "a higher plane's least share of the heaviest plane's weight"),
+      field("min_area", &O::min_area, 0, 100, "a higher plane's least area, square metres"),
       field("min_height", &O::min_height, 0, 1, "ROI: lowest height above the plane, metres"),
       field("max_height", &O::max_height, 0.01, 5, "ROI: highest height above the plane, metres"),
       field("margin", &O::margin, -1, 1, "ROI: polygon shrunk by this, metres"),
@@ -76,10 +87,11 @@ struct SupportPlane {
 /// Finds the support plane in an organized cloud with normals (unit, towards the camera, NaN
 /// where undefined): RANSAC over one-point-and-normal hypotheses restricted to near-horizontal
 /// normals, scored on a pixel grid by the points within a depth-dependent distance and normal
-/// deviation, preferring the plane that holds the centre of the view (the table the camera
-/// looks at over the floor); the best is refitted by least squares (PCA) to its largest
-/// connected region, twice. Throws InputError when the sizes differ or no plane has
-/// min_inliers (an empty or all-NaN frame, a view without a table).
+/// deviation; the best hypotheses of distinct planes are each refitted by least squares (PCA) to
+/// their connected regions, twice, and weighed by what the camera looks at (see `candidates`):
+/// the desk with the objects in the middle of the view over a larger carpet, not the top of a box
+/// on it. Throws InputError when the sizes differ or no plane has min_inliers (an empty or
+/// all-NaN frame, a view without a table).
 SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
                                 const SupportPlaneOptions& options = {});
 

@@ -22,6 +22,13 @@ bool HandleOptions::plausible(const Segment& t) const {
          r->major_radius >= min_major_radius && r->major_radius <= max_major_radius;
 }
 
+bool HandleOptions::in_reach(const Cylinder& body, const Eigen::Vector3d& x, double noise) const {
+  const Eigen::Vector3d a = body.axis.normalized(), q = x - body.point;
+  const double along = a.dot(q), rho = (q - a * along).norm();
+  return rho > body.radius + noise && rho <= body.radius + max_reach &&
+         std::abs(along) <= 0.5 * body.height - foot_margin;  // a handle stays off the table
+}
+
 namespace {
 
 /// A handle's torus from (azimuth, height, distance from the axis, ring radius, tube radius[,
@@ -132,13 +139,10 @@ std::vector<Candidate> handle_hypotheses(const Pixels& f, const Cylinder& body_s
   std::vector<Near> pts;
   for (int i : region) {
     if (!f.free[i]) continue;
+    if (!h.in_reach(body_shape, f.p(i), 0.5 * f.eps(f.p(i).z()))) continue;
     const Eigen::Vector3d x = f.p(i) - body_shape.point;
-    const double along = a.dot(x);
-    const Eigen::Vector3d radial = x - a * along;
-    const double rho = radial.norm();
-    if (rho <= body_shape.radius + 0.5 * f.eps(f.p(i).z()) || rho > body_shape.radius + h.max_reach) continue;
-    if (std::abs(along) > 0.5 * body_shape.height - h.foot_margin) continue;  // a handle stays off the table
-    pts.push_back({i, std::atan2(radial.dot(e2), radial.dot(e1)), rho});
+    const Eigen::Vector3d radial = x - a * a.dot(x);
+    pts.push_back({i, std::atan2(radial.dot(e2), radial.dot(e1)), radial.norm()});
   }
   std::vector<Candidate> out;
   if (int(pts.size()) < min_support) return out;

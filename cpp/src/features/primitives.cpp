@@ -374,6 +374,18 @@ SearchRegion region_near(const Segment& segment, double margin) {
 
 namespace {
 
+/// A segment found bottom-up that may be a piece of the handle of `body` (HandleOptions::
+/// piece_in_reach): not a plane, and not an outer wall (a neighbouring body: a bottle in a pack).
+bool piece_of_handle(const Pixels& f, const Segment& body_segment, const Segment& s, const HandleOptions& h) {
+  const auto& body = body_segment.as<shapes::Cylinder>();
+  if (s.get_if<shapes::Plane>() || s.get_if<shapes::Torus>() || (s.get_if<shapes::Cylinder>() && !s.inward) ||
+      s.pixels.empty() || 2 * s.pixels.size() > body_segment.pixels.size())
+    return false;
+  std::size_t in = 0;
+  for (int i : s.pixels) in += h.in_reach(body, f.p(i), 0.5 * f.eps(f.p(i).z()));
+  return double(in) >= h.piece_in_reach * double(s.pixels.size());
+}
+
 /// find_primitive on a frame already prepared (its taken pixels are not searched). The region's
 /// pixels are listed once: for a ball, only the image rectangle that can hold it is scanned (the
 /// rectangle of the attached segment's pixels grown by the ball's size in pixels).
@@ -467,9 +479,11 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
       const SearchRegion region = region_near(out[k], h.region_margin);
       std::vector<std::size_t> offered;
       for (std::size_t j = 0; j < n; ++j) {
-        const shapes::Cylinder* small = j != k && !dropped[j] ? outer_cylinder(j) : nullptr;
-        if (small && small->radius < h.small_cylinder_ratio * body->radius &&
-            (small->point - region.ball_center).norm() < region.ball_radius) {
+        if (j == k || dropped[j]) continue;
+        const shapes::Cylinder* small = outer_cylinder(j);
+        const bool small_side = small && small->radius < h.small_cylinder_ratio * body->radius &&
+                                (small->point - region.ball_center).norm() < region.ball_radius;
+        if (small_side || piece_of_handle(f, out[k], out[j], h)) {
           offered.push_back(j);
           for (int i : out[j].pixels) f.free[i] = 1;
         }

@@ -29,6 +29,7 @@
 
 #include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
+#include "mereo/shapes/cylinder.hpp"
 
 namespace mereo::features {
 
@@ -68,6 +69,16 @@ struct HandleOptions {
 
   /// A handle's tube and ring radii are within the ranges (the tracker's refits).
   bool plausible(const Segment& t) const;
+
+  /// x (camera frame) is where a handle of `body` may be: off its wall by more than `noise`
+  /// (half the depth noise there) and at most max_reach, within its height less foot_margin.
+  bool in_reach(const shapes::Cylinder& body, const Eigen::Vector3d& x, double noise) const;
+
+  /// A segment found bottom-up next to a body that may be a piece of its handle, offered to the
+  /// handle search (a D-shaped handle's curve taken for an inward cylinder or a sphere): curved,
+  /// not an outer wall (a neighbouring body), under half the body's pixels, and at least
+  /// `piece_in_reach` of its pixels in reach.
+  double piece_in_reach = 0.7;
 
   /// The options the detect_primitives and track_objects nodes and Python expose (the rest are
   /// the definition of a handle, kept at their defaults).

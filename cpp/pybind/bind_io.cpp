@@ -126,11 +126,14 @@ void bind_io(py::module_& m) {
         py::arg("images"), py::arg("gap") = 4, "RGB images side by side.");
   m.def("draw_objects",
         [](py::handle rgb, const mereo::Intrinsics& K,
-           const std::vector<std::pair<std::string, std::vector<mereo::Segment>>>& objects) {
+           const std::vector<std::pair<std::string, std::vector<mereo::Segment>>>& objects,
+           const std::vector<std::pair<std::string, std::array<int, 4>>>& boxes) {
           std::vector<io::DrawnObject> list;
-          for (const auto& [label, parts] : objects) list.push_back({label, parts});
+          for (const auto& [label, parts] : objects) list.push_back({label, parts, std::nullopt});
+          for (const auto& [label, box] : boxes) list.push_back({label, {}, box});
           return to_numpy(io::draw_objects(from_numpy<std::uint8_t, 3>(rgb, "image"), K, list));
         },
-        py::arg("image"), py::arg("intrinsics"), py::arg("objects"),
-        "The image with each (label, [Segment, ...]) drawn: projected part outlines and the label.");
+        py::arg("image"), py::arg("intrinsics"), py::arg("objects"), py::arg("boxes") = std::vector<std::pair<std::string, std::array<int, 4>>>{},
+        "The image with each (label, [Segment, ...]) drawn: projected part outlines and the label; "
+        "each (label, (u0, v0, u1, v1)) of `boxes` (objects without parts: unknown ones) as a grey box.");
 }

@@ -141,14 +141,15 @@ def segment_from_dict(d: dict) -> Segment:
 
 
 def draw_result(frame, result: dict, accepted_only: bool = True) -> np.ndarray:
-    """The frame's colour image with the recognized objects drawn (part outlines, model, score)."""
-    objects = []
+    """The frame's colour image with the recognized objects drawn (part outlines, model, score),
+    and the unknown objects (regions no model explains) as grey boxes."""
+    objects, boxes = [], []
     for o in result["objects"]:
-        if accepted_only and not o["accepted"]:
-            continue
-        label = f'{o["model"]} {o["score"]:.2f}'
-        objects.append((label, [segment_from_dict(p) for p in o["parts"].values()]))
+        if "region" in o:
+            boxes.append(("unknown", tuple(o["region"]["box"])))
+        elif o["accepted"] or not accepted_only:
+            objects.append((f'{o["model"]} {o["score"]:.2f}', [segment_from_dict(p) for p in o["parts"].values()]))
     color = frame.color
     if color.size == 0:
         color = np.zeros(frame.depth.shape + (3,), np.uint8)
-    return draw_objects(color, frame.intrinsics, objects)
+    return draw_objects(color, frame.intrinsics, objects, boxes)

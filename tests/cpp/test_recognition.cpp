@@ -13,6 +13,9 @@
 #include "mereo/graph/graph.hpp"
 #include "mereo/io/visualize.hpp"
 #include "mereo/knowledge/model_file.hpp"
+#include "mereo/extension/normals.hpp"
+#include "mereo/extension/support_plane.hpp"
+#include "mereo/matching/explain.hpp"
 #include "mereo/matching/interpret.hpp"
 #include "mereo/synthetic/scene.hpp"
 
@@ -165,4 +168,73 @@ TEST(Interpret, EqualScoresGoToTheMoreSpecificConcept) {
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(out[0].model, "can");  // its radius range is 4x narrower than a jar's
   EXPECT_TRUE(out[0].accepted);
+}
+
+// explain_regions against the renderer's exact part labels: a body given all its pixels explains
+// its region; the same body given only a band of them (a cylinder fitted to part of a free-form
+// object) does not, and is rejected with its reason; objects given to no model come back as
+// unknown regions where they are.
+TEST(Explain, ABodyMustExplainItsRegionAndTheRestIsUnknown) {
+  synthetic::SceneOptions so;
+  so.noise = false;
+  int checked = 0;
+  for (std::uint64_t seed = 300; seed < 310; ++seed) {
+    const auto sf = synthetic::render(seed, so);
+    const Cloud cloud = extension::back_project(sf.frame);
+    const auto plane = extension::find_support_plane(cloud, extension::estimate_normals(cloud));
+    const int W = cloud.cols();
+    for (const auto& obj : sf.truth.objects_truth) {
+      const auto* body = obj.part("body");
+      if (!body || (obj.model != "jar" && obj.model != "can") || body->visible_pixels < 1500) continue;
+      std::vector<int> all;
+      for (int v = 0; v < cloud.rows(); ++v)
+        for (int u = 0; u < W; ++u)
+          if (sf.truth.parts(v, u) == body->label) all.push_back(v * W + u);
+      // the band: the rows of its lowest quarter
+      const int v_low = all.back() / W, v_high = all.front() / W;
+      std::vector<int> band;
+      for (int i : all)
+        if (i / W > v_low - (v_low - v_high) / 4) band.push_back(i);
+      for (const bool whole : {true, false}) {
+        // whole: every part with all its pixels (a jar's lid too); else the body's band alone
+        std::vector<Segment> segments(1);
+        segments[0].pixels = whole ? all : band;
+        matching::RecognizedObject r;
+        r.model = obj.model, r.score = 1, r.accepted = true, r.parts = {{"body", 0}};
+        for (const auto& part : obj.parts)
+          if (whole && part.role != "body") {
+            segments.emplace_back();
+            for (int v = 0; v < cloud.rows(); ++v)
+              for (int u = 0; u < W; ++u)
+                if (sf.truth.parts(v, u) == part.label) segments.back().pixels.push_back(v * W + u);
+            r.parts.push_back({part.role, int(segments.size()) - 1});
+          }
+        std::vector<matching::RecognizedObject> objects = {r};
+        matching::explain_regions(objects, segments, cloud, plane);
+        ASSERT_FALSE(objects.empty());
+        EXPECT_EQ(objects[0].accepted, whole) << "seed " << seed << " " << obj.model << " coverage "
+                                              << objects[0].coverage << " whole " << whole;
+        if (!whole) EXPECT_NE(objects[0].rejected.find("explains"), std::string::npos) << objects[0].rejected;
+        // the other objects on the table are unknown regions over their pixels
+        for (const auto& other : sf.truth.objects_truth) {
+          if (other.id == obj.id || other.visible_pixels < 3000 || other.model == "table" ||
+              other.model == "floor" || other.model == "wall")
+            continue;
+          bool covered = false;
+          for (const auto& o : objects)
+            if (o.region) {
+              int inside = 0, total = 0;
+              for (int v = o.region->box[1]; v <= o.region->box[3]; ++v)
+                for (int u = o.region->box[0]; u <= o.region->box[2]; ++u) inside += sf.truth.objects(v, u) == other.id;
+              for (int v = 0; v < cloud.rows(); ++v)
+                for (int u = 0; u < W; ++u) total += sf.truth.objects(v, u) == other.id;
+              covered |= inside > total / 2;
+            }
+          EXPECT_TRUE(covered) << "seed " << seed << ": " << other.model << " is no unknown region";
+        }
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 6);
 }

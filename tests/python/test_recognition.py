@@ -72,7 +72,8 @@ def test_the_same_pipeline_built_node_by_node(scene, result):
                  (table.roi, prims.roi), (src.frame, prims.frame), (raw.cloud, prims.unfiltered),
                  (prims.segments, objects.segments), (models.models, objects.models), (table.plane, objects.plane),
                  (objects.lattice, interpretation.lattice), (models.models, interpretation.models),
-                 (src.frame, report.frame), (prims.segments, report.segments),
+                 (prims.segments, interpretation.segments), (cloud.cloud, interpretation.cloud),
+                 (table.plane, interpretation.plane), (src.frame, report.frame), (prims.segments, report.segments),
                  (interpretation.objects, report.objects), (table.plane, report.plane)]:
         g.connect(a, b)
     mine = mereo.recognize(scene.frame, graph=g)

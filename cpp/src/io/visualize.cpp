@@ -118,8 +118,12 @@ ColorImage draw_objects(const ColorImage& color, const Intrinsics& K, const std:
                                        {255, 0, 255}, {0, 220, 220}, {255, 128, 0}, {160, 96, 255}};
   const int thick = std::max(1, out.cols() / 320);
   for (std::size_t k = 0; k < objects.size(); ++k) {
-    const cv::Scalar c = palette[k % 8];
+    const cv::Scalar c = objects[k].box ? cv::Scalar(170, 170, 170) : palette[k % 8];
     std::optional<cv::Point> anchor;
+    if (const auto& b = objects[k].box) {
+      cv::rectangle(img, cv::Point((*b)[0], (*b)[1]), cv::Point((*b)[2], (*b)[3]), c, thick);
+      anchor = cv::Point(((*b)[0] + (*b)[2]) / 2, (*b)[1]);
+    }
     for (const Segment& s : objects[k].parts) {
       const shapes::Outline outline = s.outline();  // the class's own, mereo/shapes/*.cpp
       for (const auto& line : outline.lines) {

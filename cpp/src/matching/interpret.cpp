@@ -120,6 +120,15 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
       obj["parts"][role] = std::move(part);
     }
     obj["excludes"] = o.excludes;
+    if (o.coverage >= 0) obj["coverage"] = o.coverage;
+    if (!o.rejected.empty()) obj["rejected"] = o.rejected;
+    if (o.region) {
+      const auto& r = *o.region;
+      obj["region"] = {{"pixels", r.pixels},
+                       {"box", Json::array({r.box[0], r.box[1], r.box[2], r.box[3]})},
+                       {"centroid", Json::array({r.centroid.x(), r.centroid.y(), r.centroid.z()})},
+                       {"size", Json::array({r.size.x(), r.size.y(), r.size.z()})}};
+    }
     j["objects"].push_back(std::move(obj));
   }
   j["primitives"] = Json::array();

@@ -8,7 +8,11 @@
 //     - objects.lattice -> interpretation.lattice
 //     - models.models -> interpretation.models
 //     - interpretation.objects -> result.objects
+//     - primitives.segments -> interpretation.segments   # optional, the three together: every
+//     - cloud.cloud -> interpretation.cloud              #   accepted object must explain its
+//     - table.plane -> interpretation.plane              #   region; the rest is "unknown"
 #include "mereo/knowledge/model_file.hpp"
+#include "mereo/matching/explain.hpp"
 #include "mereo/matching/interpret.hpp"
 #include "nodes/options.hpp"
 #include "nodes/registry.hpp"
@@ -21,14 +25,21 @@ graph::NodeSpec interpret_node() {
   s.doc = "The frame's interpretation: hypotheses accepted one per set of segments (most explaining first), "
           "then the alternatives they exclude.";
   s.inputs = {{"lattice", "Lattice", "the hypotheses of match_models"},
-              {"models", "ModelSet", "the models they were matched from (the models node)"}};
+              {"models", "ModelSet", "the models they were matched from (the models node)"},
+              {"segments", "Segments", "the segments (with cloud and plane: each object must explain its region)", false},
+              {"cloud", "Cloud", "the frame's points", false},
+              {"plane", "SupportPlane", "the support plane and its region of interest", false}};
   s.outputs = {{"objects", "Interpretation", "the accepted objects, then the listed alternatives"}};
   s.options = options_of<matching::InterpretOptions>();
   s.make = [](const graph::Options& o) {
     const auto io = options_from<matching::InterpretOptions>(o);
     return graph::NodeBody([io](graph::NodeContext& ctx) {
-      ctx.output("objects", matching::interpret(ctx.input<knowledge::ModelSet>("models").kb,
-                                                ctx.input<matching::Lattice>("lattice"), io));
+      auto objects = matching::interpret(ctx.input<knowledge::ModelSet>("models").kb,
+                                         ctx.input<matching::Lattice>("lattice"), io);
+      if (ctx.has_input("segments") && ctx.has_input("cloud") && ctx.has_input("plane"))
+        matching::explain_regions(objects, ctx.input<std::vector<Segment>>("segments"), ctx.input<Cloud>("cloud"),
+                                  ctx.input<extension::SupportPlane>("plane"), io);
+      ctx.output("objects", std::move(objects));
     });
   };
   return s;

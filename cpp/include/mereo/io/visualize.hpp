@@ -1,6 +1,8 @@
 // mereo/io/visualize.hpp: images people would rather see than read.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,8 @@ ColorImage hstack(const std::vector<ColorImage>& images, int gap = 4);
 struct DrawnObject {
   std::string label;
   std::vector<Segment> parts;
+  /// An object without parts (an unknown one): its image box (u0, v0, u1, v1), drawn in grey.
+  std::optional<std::array<int, 4>> box;
 };
 
 /// The colour image with each object drawn over it: the projected outlines of its parts

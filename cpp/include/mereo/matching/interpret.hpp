@@ -2,6 +2,7 @@
 // hold (the judgement step), and the frame's result as one JSON line (the contract of DESIGN.md).
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,12 +26,28 @@ struct RecognizedObject {
   bool accepted = false;           ///< part of the frame's interpretation
   std::vector<int> excludes;       ///< ids of the listed objects that share a segment with it
   int hypothesis = -1;             ///< index into Lattice::hypotheses
+  double coverage = -1;            ///< its parts' share of its region (explain_regions; -1: not checked)
+  std::string rejected;            ///< why a hypothesis that won its segments is not accepted
+  /// An object of model "unknown" (explain_regions): a region above the table that no accepted
+  /// object explains.
+  struct Region {
+    int pixels = 0;
+    std::array<int, 4> box{};      ///< u0, v0, u1, v1 (inclusive)
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< camera frame, metres
+    Eigen::Vector3d size = Eigen::Vector3d::Zero();      ///< extent along the table's x, y and up
+  };
+  std::optional<Region> region;
 };
 
 struct InterpretOptions {
   double min_score = 0.5;          ///< hypotheses below are not accepted
   double min_posterior = 0.5;      ///< nor below this posterior
   double list_score = 0.3;         ///< alternatives at or above this are listed (not accepted)
+  // explain_regions (explain.hpp), when the node has the frame's cloud and support plane:
+  double min_coverage = 0.5;       ///< an accepted object's parts' least share of its region
+  double depth_jump = 0.02;        ///< neighbours further apart in depth (times it) are not connected
+  double reach = 0.02;             ///< a region reaches this far (metres) beyond its object's extent
+  int min_unknown_pixels = 800;    ///< unexplained regions this big are unknown objects (0: none)
 
   /// The options of the report node.
   static const Fields<InterpretOptions>& fields();
@@ -42,6 +59,10 @@ inline const Fields<InterpretOptions>& InterpretOptions::fields() {
       field("min_score", &O::min_score, 0, 1, "hypotheses below this score are not accepted"),
       field("min_posterior", &O::min_posterior, 0, 1, "nor below this posterior"),
       field("list_score", &O::list_score, 0, 1, "alternatives at or above this are listed"),
+      field("min_coverage", &O::min_coverage, 0, 1, "an object's parts' least share of its region"),
+      field("depth_jump", &O::depth_jump, 0.001, 1, "a depth step (times the depth) that separates regions"),
+      field("reach", &O::reach, 0, 1, "a region's reach beyond its object's extent, metres"),
+      field("min_unknown_pixels", &O::min_unknown_pixels, 0, 1e7, "least pixels of an unknown object (0: none)"),
   };
   return f;
 }

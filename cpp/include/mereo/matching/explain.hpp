@@ -1,0 +1,26 @@
+// mereo/matching/explain.hpp: an accepted object must explain the surface it stands for. A
+// cylinder fitted to a band of a squeeze bottle, or a sphere to the corner of a box, is a good
+// primitive of a small part of a free-form object; the object is then not a container but
+// `unknown`. The check: the object's region (the pixels above the table connected to its parts'
+// pixels without a depth jump, over its footprint on the table) must be mostly its parts' pixels.
+// What no accepted object explains is reported as unknown objects with their region and size.
+#pragma once
+
+#include <vector>
+
+#include "mereo/core/image.hpp"
+#include "mereo/core/segment.hpp"
+#include "mereo/extension/support_plane.hpp"
+#include "mereo/matching/interpret.hpp"
+
+namespace mereo::matching {
+
+/// Rejects the accepted objects of `objects` that do not explain their region (accepted = false,
+/// `rejected` says why, `coverage` set on every accepted one), then appends the unexplained
+/// regions of `plane.roi` as objects of model "unknown" (not accepted, with their `region`).
+/// The thresholds are InterpretOptions' min_coverage, depth_jump, reach and min_unknown_pixels.
+/// `cloud` is the frame's organized cloud; pixel indices are row-major. Deterministic.
+void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<Segment>& segments,
+                     const Cloud& cloud, const extension::SupportPlane& plane, const InterpretOptions& options = {});
+
+}  // namespace mereo::matching

@@ -1,0 +1,160 @@
+// Accepted objects must explain their region; what none explains is an unknown object (see
+// mereo/matching/explain.hpp).
+#include "mereo/matching/explain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace mereo::matching {
+namespace {
+
+struct Grid {
+  const Cloud& cloud;
+  int H, W;
+  Eigen::Vector3d p(int i) const {
+    const float* q = cloud.ptr(i / W, i % W);
+    return {q[0], q[1], q[2]};
+  }
+  bool valid(int i) const {
+    const float* q = cloud.ptr(i / W, i % W);
+    return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) && q[2] > 0;
+  }
+};
+
+/// Pixels reachable from `seeds` over 8-neighbours that pass `enter`, without a depth jump.
+template <class Enter>
+std::vector<int> grow(const Grid& g, const std::vector<int>& seeds, double depth_jump, std::vector<int>& mark,
+                      int stamp, Enter enter) {
+  std::vector<int> out, stack;
+  for (int i : seeds)
+    if (mark[std::size_t(i)] != stamp && g.valid(i)) mark[std::size_t(i)] = stamp, stack.push_back(i);
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    out.push_back(i);
+    const int v = i / g.W, u = i % g.W;
+    const float zi = g.cloud.ptr(v, u)[2];
+    for (int dv = -1; dv <= 1; ++dv)
+      for (int du = -1; du <= 1; ++du) {
+        const int vv = v + dv, uu = u + du;
+        if ((!dv && !du) || vv < 0 || vv >= g.H || uu < 0 || uu >= g.W) continue;
+        const int j = vv * g.W + uu;
+        if (mark[std::size_t(j)] == stamp || !g.valid(j) || !enter(j)) continue;
+        if (std::abs(g.cloud.ptr(vv, uu)[2] - zi) > depth_jump * zi) continue;
+        mark[std::size_t(j)] = stamp;
+        stack.push_back(j);
+      }
+  }
+  return out;
+}
+
+}  // namespace
+
+void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<Segment>& segments,
+                     const Cloud& cloud, const extension::SupportPlane& plane, const InterpretOptions& o) {
+  const int H = cloud.rows(), W = cloud.cols();
+  if (!plane.roi.same_size(cloud)) return;  // no region of interest: nothing to check against
+  const Grid g{cloud, H, W};
+  const std::size_t N = std::size_t(H) * std::size_t(W);
+  const auto in_roi = [&](int i) { return plane.roi.data()[i] != 0; };
+
+  // the pixels of every accepted object's parts
+  std::vector<int> owner(N, -1);
+  std::vector<std::vector<int>> pixels(objects.size());
+  for (std::size_t a = 0; a < objects.size(); ++a) {
+    if (!objects[a].accepted) continue;
+    for (const auto& part : objects[a].parts)
+      for (int i : segments.at(std::size_t(part.second)).pixels) pixels[a].push_back(i);
+    std::sort(pixels[a].begin(), pixels[a].end());
+    pixels[a].erase(std::unique(pixels[a].begin(), pixels[a].end()), pixels[a].end());
+    for (int i : pixels[a]) owner[std::size_t(i)] = int(a);
+  }
+
+  // each object's region: connected to its pixels, within its extent (plus reach) of its centre,
+  // not another object's; its coverage is its own pixels' share
+  std::vector<int> mark(N, -1), region_of(N, -1);
+  int stamp = 0;
+  const Pose& T = plane.world_from_camera;
+  for (std::size_t a = 0; a < objects.size(); ++a) {
+    if (!objects[a].accepted || pixels[a].empty()) continue;
+    // the object's footprint on the table, all the way up from its foot: a primitive fitted to a
+    // band of a free-form object leaves the rest of it above unexplained (a ball about the object
+    // would reach far over the top of a tin a tall jar stands on; what it stands on is not it)
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    double foot = INFINITY;
+    for (int i : pixels[a]) {
+      const Eigen::Vector3d w = T * g.p(i);
+      c += w.head<2>(), foot = std::min(foot, w.z());
+    }
+    c /= double(pixels[a].size());
+    double radius = 0;
+    for (int i : pixels[a]) radius = std::max(radius, ((T * g.p(i)).head<2>() - c).norm());
+    radius += o.reach, foot -= o.reach;
+    const auto region = grow(g, pixels[a], o.depth_jump, mark, stamp++, [&](int j) {
+      if (owner[std::size_t(j)] == int(a)) return true;
+      if (!in_roi(j) || owner[std::size_t(j)] >= 0) return false;
+      const Eigen::Vector3d w = T * g.p(j);
+      return w.z() >= foot && (w.head<2>() - c).norm() <= radius;
+    });
+    objects[a].coverage = double(pixels[a].size()) / double(std::max<std::size_t>(1, region.size()));
+    if (objects[a].coverage < o.min_coverage) {
+      objects[a].accepted = false;
+      char why[160];
+      std::snprintf(why, sizeof why, "explains %.0f%% of its region (%zu of %zu pixels; at least %.0f%%): not a %s",
+                    100 * objects[a].coverage, pixels[a].size(), region.size(), 100 * o.min_coverage,
+                    objects[a].model.c_str());
+      objects[a].rejected = why;
+      for (int i : pixels[a]) owner[std::size_t(i)] = -1;
+    } else {
+      for (int i : region) region_of[std::size_t(i)] = int(a);
+    }
+  }
+  // accepted objects first, as interpret lists them (ids and excludes renumbered)
+  std::stable_partition(objects.begin(), objects.end(), [](const RecognizedObject& r) { return r.accepted; });
+  std::vector<int> new_id(objects.size());
+  for (std::size_t k = 0; k < objects.size(); ++k)
+    if (objects[k].id >= 0 && objects[k].id < int(objects.size())) new_id[std::size_t(objects[k].id)] = int(k);
+  for (auto& r : objects) {
+    r.id = new_id[std::size_t(r.id)];
+    for (int& e : r.excludes) e = new_id[std::size_t(e)];
+    std::sort(r.excludes.begin(), r.excludes.end());
+  }
+
+  if (o.min_unknown_pixels <= 0) return;
+  const Eigen::Matrix3d R = T.linear();
+  for (std::size_t s = 0; s < N; ++s) {
+    const int i = int(s);
+    if (!in_roi(i) || region_of[s] >= 0 || mark[s] == stamp) continue;
+    const auto region = grow(g, {i}, o.depth_jump, mark, stamp, [&](int j) {
+      return in_roi(j) && region_of[std::size_t(j)] < 0;
+    });
+    if (int(region.size()) < o.min_unknown_pixels) continue;
+    RecognizedObject u;
+    u.id = int(objects.size());
+    u.model = "unknown";
+    u.rejected = "no model explains it";
+    RecognizedObject::Region r;
+    r.pixels = int(region.size());
+    r.box = {W, H, -1, -1};
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+    for (int j : region) {
+      r.box[0] = std::min(r.box[0], j % W), r.box[1] = std::min(r.box[1], j / W);
+      r.box[2] = std::max(r.box[2], j % W), r.box[3] = std::max(r.box[3], j / W);
+      const Eigen::Vector3d x = g.p(j);
+      r.centroid += x;
+      const Eigen::Vector3d w = R * x;
+      lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
+    }
+    r.centroid /= double(region.size());
+    r.size = hi - lo;
+    // up: from the table to the region's top
+    double top = 0;
+    for (int j : region) top = std::max(top, plane.height(g.p(j)));
+    r.size.z() = top;
+    u.region = r;
+    objects.push_back(std::move(u));
+  }
+}
+
+}  // namespace mereo::matching

@@ -19,72 +19,15 @@ using detail::Bound;
 using detail::Hit;
 using detail::Kind;
 using detail::Prim;
+using detail::RayHit;
+using detail::RenderObject;
+using detail::RenderScene;
 using detail::Vec3;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kBaseline = 0.075;  // projector-camera baseline, metres (projector at +x)
-
-struct RenderObject {
-  Bound bound;
-  int first = 0, count = 0;
-  std::uint32_t id = 0;
-  Eigen::Vector3f color;
-};
-
-struct RenderScene {
-  std::vector<Prim> prims;
-  std::vector<RenderObject> objects;
-};
-
-Prim prim_of(const Shape& s) {
-  Prim p;
-  p.c = s.point;
-  p.a = s.axis.normalized();
-  if (s.cls == "plane") {
-    p.kind = Kind::Plane;
-  } else if (s.cls == "box") {
-    p.kind = Kind::Box;
-    p.b = (s.axis2 - s.axis2.dot(p.a) * p.a).normalized();
-    p.e = p.a.cross(p.b);
-    p.half = 0.5 * s.size;
-  } else if (s.cls == "cylinder") {
-    p.kind = Kind::Cylinder;
-    p.r = s.radius;
-    p.half_h = 0.5 * s.height;
-  } else if (s.cls == "cone") {
-    p.kind = Kind::Cone;
-    p.r = s.radius;
-    p.half_h = 0.5 * s.height;
-    p.slope = std::tan(s.angle);
-  } else if (s.cls == "disc") {
-    p.kind = Kind::Disc;
-    p.r = s.radius;
-    p.r_in = s.minor_radius;
-  } else if (s.cls == "sphere") {
-    p.kind = Kind::SphereZone;
-    p.r = s.radius;
-    p.hmin = s.height_min;
-    p.hmax = s.height_max;
-  } else if (s.cls == "torus") {
-    p.kind = Kind::Torus;
-    p.b = (s.axis2 - s.axis2.dot(p.a) * p.a).normalized();
-    p.e = p.a.cross(p.b);
-    p.r = s.radius;
-    p.r_in = s.minor_radius;
-    if (s.arc_end > s.arc_start) {
-      p.arc0 = s.arc_start;
-      p.arc_len = s.arc_end - s.arc_start;
-    } else {
-      p.arc0 = 0;
-      p.arc_len = detail::kTwoPi;
-    }
-  } else {
-    throw std::invalid_argument("synthetic: unknown shape class '" + s.cls + "'");
-  }
-  return p;
-}
 
 /// Camera-frame primitives of the scene, and the ground-truth part list.
 RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<ObjectTruth>& truth) {
@@ -111,19 +54,24 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
       pt.world = shape;
       pt.camera = shape.transformed(world_to_camera);
       pt.label = ++label;
-      Prim p = prim_of(pt.camera);
-      p.label = pt.label;
-      p.object = ot.id;
-      if (p.kind == Kind::Torus && body != nullptr) {
-        // A mug handle: hide the tube inside the body; the arc only excludes the inner side of
-        // the ring (every point of the tube where the centre circle is closer to the body axis
-        // than R - minor lies inside the body).
+      const std::size_t first = rs.prims.size();
+      detail::append_prims(pt.camera, rs.prims);
+      for (std::size_t k = first; k < rs.prims.size(); ++k) {
+        Prim& p = rs.prims[k];
+        p.label = pt.label;
+        p.object = ot.id;
+        if (body == nullptr || role != "handle") continue;
+        // A mug handle: hide what is inside the body (the ends that go into the wall).
         const Shape bc = body->transformed(world_to_camera);
         p.clip = true;
         p.clip_c = bc.point;
         p.clip_a = bc.axis.normalized();
         p.clip_r = bc.radius;
         p.clip_half_h = 0.5 * bc.height;
+        if (pt.camera.cls != "torus") continue;
+        // A torus arc: the arc only excludes the inner side of the ring (every point of the
+        // tube where the centre circle is closer to the body axis than R - minor lies inside
+        // the body).
         const Vec3 w = p.c - p.clip_c;
         const double dist = (w - w.dot(p.clip_a) * p.clip_a).norm();
         const double x = std::clamp((bc.radius - p.r_in - dist) / p.r, -1.0, 1.0);
@@ -131,7 +79,6 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
         p.arc0 = -half;
         p.arc_len = 2 * half;
       }
-      rs.prims.push_back(p);
       ot.parts.push_back(std::move(pt));
     }
     ro.count = int(rs.prims.size()) - ro.first;
@@ -159,48 +106,6 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
     truth.push_back(std::move(ot));
   }
   return rs;
-}
-
-struct RayHit {
-  double t = std::numeric_limits<double>::infinity();
-  Vec3 n = Vec3::Zero();
-  std::uint32_t label = 0, object = 0;
-  int obj_index = -1;
-};
-
-/// Nearest hit along o + t d, t in (tmin, tmax).
-bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax,
-                  RayHit& out) {
-  double best = tmax;
-  bool found = false;
-  Hit h;
-  for (std::size_t i = 0; i < rs.objects.size(); ++i) {
-    const RenderObject& ro = rs.objects[i];
-    if (!detail::ray_hits_sphere(ro.bound, o, d, tmin, best)) continue;
-    for (int k = ro.first; k < ro.first + ro.count; ++k) {
-      if (detail::intersect(rs.prims[k], o, d, tmin, best, h)) {
-        best = h.t;
-        found = true;
-        out.t = h.t;
-        out.n = h.n;
-        out.label = rs.prims[k].label;
-        out.object = rs.prims[k].object;
-        out.obj_index = int(i);
-      }
-    }
-  }
-  return found;
-}
-
-/// Does anything block o + t d for t in (tmin, tmax)?
-bool cast_any(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax) {
-  Hit h;
-  for (const RenderObject& ro : rs.objects) {
-    if (!detail::ray_hits_sphere(ro.bound, o, d, tmin, tmax)) continue;
-    for (int k = ro.first; k < ro.first + ro.count; ++k)
-      if (detail::intersect(rs.prims[k], o, d, tmin, tmax, h)) return true;
-  }
-  return false;
 }
 
 // per-pixel noise streams

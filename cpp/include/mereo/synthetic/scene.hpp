@@ -32,7 +32,22 @@ namespace mereo::synthetic {
 ///  - "sphere":   `point` = centre, `radius` (bowls: the zone between two planes normal to
 ///    `axis`, at signed offsets `height_min`..`height_max` from the centre);
 ///  - "box":      `point` = centre, `axis` = local z, `axis2` = local x, `size` = full extents;
-///  - "plane":    `point` on it, `axis` = normal (floor and wall; unbounded).
+///  - "plane":    `point` on it, `axis` = normal (floor and wall; unbounded);
+///  - "ellipsoid": `point` = centre, `axis` = local z, `axis2` = local x, `size` = full extents
+///    (twice the semi-axes) along local x, y, z;
+///  - "rounded_box": a box with rounded edges and corners (the points within `radius` of an
+///    inner box): `point`, `axis`, `axis2`, `size` as "box" (the outer extents), `radius`;
+///  - "loop":     a tube of radius `minor_radius` swept along a rounded rectangle in the plane
+///    through `point` normal to `axis`: `point` = the rectangle's centre, `axis2` = the
+///    direction of its first side (a handle's: away from the body), `size.x()` and `size.y()`
+///    = the centre line's extents along `axis2` and along `axis x axis2`, `radius` = the centre
+///    line's corner radius (minor_radius < radius <= half of either extent; a circle when
+///    both halves equal it). D-shaped handles have large corners, squared ones small;
+///  - "band":     a flat strip along the same rounded rectangle: a rectangular cross-section
+///    `2 minor_radius` thick in the plane and `height` wide along `axis` (edge-on when seen
+///    along `axis`).
+/// A mug's handle ("torus", "loop" or "band") is rendered only outside its body's outer
+/// cylinder: the ends that go into the wall are hidden.
 struct Shape {
   std::string cls;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();

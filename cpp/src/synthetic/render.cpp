@@ -40,6 +40,8 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
     ObjectTruth ot;
     ot.id = std::uint32_t(i + 1);
     ot.model = so.model;
+    ot.pose = so.pose;
+    ot.kind = so.kind;
     RenderObject ro;
     ro.id = ot.id;
     ro.color = so.color;

@@ -1,10 +1,13 @@
 // mereo/synthetic/scene.hpp: the built-in tabletop scene renderer and its exact ground truth.
 //
 // A scene is generated from a seed: floor, wall, a table with legs, and on the table mugs
-// (hollow body, open top, torus handle on the outer wall), jars and cans (closed cylinders),
-// bottles, plates, bowls and boxes, plus optional handle-like distractors beside jars.
+// (hollow body, open top, a handle on the outer wall: a torus arc, or with handle_shapes
+// "varied" also D-shaped, squared and flat-band handles), jars and cans (closed cylinders,
+// upright or lying), bottles, plates, bowls and boxes, plus optional handle-like distractors
+// beside jars and free-form distractors (blobs, bananas, drills, rounded boxes: model "other").
 // Frames are ray cast analytically (no meshes), in parallel, with an optional Kinect-like
-// noise model. World frame: z up, origin at the centre of the table top.
+// noise model.
+// World frame: z up, origin at the centre of the table top.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "mereo/core/frame.hpp"
+#include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 
 namespace mereo::synthetic {
@@ -83,7 +87,13 @@ struct PartTruth {
 struct ObjectTruth {
   std::uint32_t id = 0;              ///< value in GroundTruth::objects (1..N)
   std::string model;                 ///< "mug", "jar", "can", "bottle", "plate", "bowl",
-                                     ///< "box", "table", "floor", "wall", "distractor"
+                                     ///< "box", "cup", "table", "floor", "wall", "distractor",
+                                     ///< "other" (free-form distractors: not to be recognized)
+  std::string pose;                  ///< jars and cans: "upright" or "lying" (else empty)
+  /// What kind of its model it is, where models come in kinds: a mug's handle ("torus", "d",
+  /// "squared", "band") with handle_shapes "varied"; an "other": "blob", "banana", "drill",
+  /// "rounded_box". Empty otherwise.
+  std::string kind;
   std::vector<PartTruth> parts;
   std::size_t visible_pixels = 0;
   const PartTruth* part(const std::string& role) const;
@@ -100,6 +110,9 @@ struct GroundTruth {
   const ObjectTruth* object(std::uint32_t id) const;
 };
 
+/// Mug handles: all torus arcs, or also D-shaped, squared and flat-band handles.
+enum class HandleShapes { Torus, Varied };
+
 struct SceneOptions {
   int width = 640;
   int height = 480;
@@ -112,6 +125,15 @@ struct SceneOptions {
   /// Tapered cups (cone bodies, open at the wide top, 4-10 degrees) join the objects: one or
   /// two, after the others.
   bool tapered_cups = false;
+  /// "varied": each mug's handle is a torus arc, D-shaped, squared or a flat band (a quarter
+  /// each), spanning the same reach and height as the torus it replaces (the rest of the scene
+  /// stays as with "torus").
+  HandleShapes handle_shapes = HandleShapes::Torus;
+  /// One or two cans or jars lying on their side (axis parallel to the table) join the objects.
+  bool lying_containers = false;
+  /// One to three free-form distractors join the objects: blobs (a few ellipsoids), bananas
+  /// (a bent tube), drill-like shapes (boxes and a barrel), rounded boxes; model "other".
+  bool freeform_distractors = false;
   int min_objects = 3;               ///< objects on the table (besides distractors)
   int max_objects = 6;
   double min_distance = 0.6;         ///< camera distance to the table centre, metres
@@ -119,11 +141,42 @@ struct SceneOptions {
   double min_elevation_deg = 25.0;   ///< camera looks down at this angle
   double max_elevation_deg = 60.0;
   double orbit_step_deg = 6.0;       ///< azimuth step per frame of a sequence
+  /// Every option but the intrinsics, described once (Python's SceneOptions, the command
+  /// line's scene flags).
+  static const Fields<SceneOptions>& fields();
 };
+
+inline const Fields<SceneOptions>& SceneOptions::fields() {
+  using O = SceneOptions;
+  static const Fields<O> f = {
+          field("width", &O::width, 1, 8192, "image width, pixels"),
+          field("height", &O::height, 1, 8192, "image height, pixels"),
+          field("noise", &O::noise, "depth (and colour) noise of the depth model; off: the exact depth"),
+          field("distractors", &O::distractors, "handle-like tori beside some jars"),
+          field("ambiguous_distractors", &O::ambiguous_distractors,
+                "rings leaning on some jars (a mug's handle from some views)"),
+          field("tapered_cups", &O::tapered_cups, "one or two tapered cups (cone bodies, 4-10 degrees) join the objects"),
+          choice("handle_shapes", &O::handle_shapes, {{"torus", HandleShapes::Torus}, {"varied", HandleShapes::Varied}},
+                 "mug handles: torus arcs, or also D-shaped, squared and flat-band ones"),
+          field("lying_containers", &O::lying_containers, "one or two cans or jars lying on their side join the objects"),
+          field("freeform_distractors", &O::freeform_distractors,
+                "blobs, bananas, drills and rounded boxes join the objects (model 'other')"),
+          field("min_objects", &O::min_objects, 0, 50, "objects on the table (besides distractors), at least"),
+          field("max_objects", &O::max_objects, 0, 50, "objects on the table (besides distractors), at most"),
+          field("min_distance", &O::min_distance, 0.05, 20.0, "camera distance to the table centre, metres, at least"),
+          field("max_distance", &O::max_distance, 0.05, 20.0, "camera distance to the table centre, metres, at most"),
+          field("min_elevation_deg", &O::min_elevation_deg, 0.0, 89.0, "the camera looks down at least this much"),
+          field("max_elevation_deg", &O::max_elevation_deg, 0.0, 89.0, "the camera looks down at most this much"),
+          field("orbit_step_deg", &O::orbit_step_deg, -180.0, 180.0, "azimuth step per frame of a sequence"),
+  };
+  return f;
+}
 
 /// One object placed in the world: its model name and its parts in the world frame.
 struct SceneObject {
   std::string model;
+  std::string pose;  ///< ObjectTruth::pose
+  std::string kind;  ///< ObjectTruth::kind
   std::vector<std::pair<std::string, Shape>> parts;  ///< role, world-frame shape
   Eigen::Vector3f color = Eigen::Vector3f(0.6f, 0.6f, 0.6f);  ///< RGB in [0,1]
 };

@@ -1,4 +1,5 @@
-// Ray casting of a synthetic scene: exact ground truth and a Kinect-like noise model.
+// Ray casting of a synthetic scene: exact ground truth, colour, and the depth models (the
+// Kinect-like one here, the active-stereo one in depth_stereo.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mereo/synthetic/scene.hpp"
+#include "depth_models.hpp"
 #include "raycast.hpp"
 
 namespace mereo::synthetic {
@@ -232,7 +234,7 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
             c[ch] = std::uint8_t(std::clamp(std::lround(val), 0l, 255l));
           }
         }
-        if (!options.noise) continue;
+        if (!options.noise || options.depth_model != DepthModel::Kinect) continue;
         const float z0 = clean(v, u);
         if (std::isnan(z0)) continue;
         // (3) oblique surfaces: missing with probability rising from 70 to 85 degrees
@@ -281,6 +283,10 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
       }
     }
   });
+  if (options.noise && options.depth_model == DepthModel::Stereo) {
+    const detail::RenderedRays rays{rs, K, clean, shade, ray_t, hit_obj, seed, frame_index};
+    detail::stereo_depth(rays, options.stereo, f.depth);
+  }
   return out;
 }
 

@@ -700,6 +700,11 @@ void check_options(const SceneOptions& o) {
   if (o.min_elevation_deg < 0 || o.max_elevation_deg > 89.0 ||
       o.max_elevation_deg < o.min_elevation_deg)
     throw InputError("synthetic: need 0 <= min_elevation_deg <= max_elevation_deg <= 89");
+  const StereoModel& s = o.stereo;
+  if (!(s.baseline > 0) || !(s.noise_patch >= 1) || !(s.subpixel >= 1) || s.patch_noise_px < 0 ||
+      s.pixel_noise_px < 0 || s.fattening_px < 0 || s.thin_px < 0 || !(s.max_range > s.min_range))
+    throw InputError("synthetic: stereo model: need baseline > 0, noise_patch >= 1, subpixel >= 1, "
+                     "noise, fattening and thin widths >= 0, max_range > min_range");
 }
 
 }  // namespace

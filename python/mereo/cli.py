@@ -293,7 +293,7 @@ def cmd_evaluate(args) -> int:
 
     try:
         results = ev.load_results(args.results)
-        truths = ev.load_truths(args.truth)
+        truths = ev.load_truths(args.truth, _scene_options(args))
         e = ev.evaluate(results, truths)
     except ValueError as err:
         raise _mereo.InputError(str(err)) from None
@@ -373,6 +373,7 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("truth", nargs="+", help="NNNN_truth.json files, folders of them, or synthetic:SEED[:FRAMES]")
     e.add_argument("--mistakes", action="store_true", help="also list every false and missed object")
     e.add_argument("--json", help="write the figures as JSON here")
+    _scene_flags(e)
     e.set_defaults(run=cmd_evaluate)
     return p
 

@@ -527,3 +527,32 @@ TEST(SyntheticShapes, TruthJsonOfTheNewClasses) {
   }
   EXPECT_TRUE(loop && band && ellipsoid && rounded);
 }
+
+TEST(SyntheticShapes, VisibleBoxesHoldTheVisiblePoints) {
+  const SyntheticFrame f = mereo::synthetic::render(5, all_new());
+  const GroundTruth& gt = f.truth;
+  std::map<std::uint32_t, std::pair<V3, V3>> box;
+  for (int v = 0; v < gt.depth.rows(); ++v)
+    for (int u = 0; u < gt.depth.cols(); ++u) {
+      const std::uint32_t id = gt.objects(v, u);
+      if (id == 0) continue;
+      const V3 p = back_project(f.frame.intrinsics, u, v, gt.depth(v, u));
+      auto [it, fresh] = box.try_emplace(id, p, p);
+      it->second.first = it->second.first.cwiseMin(p);
+      it->second.second = it->second.second.cwiseMax(p);
+    }
+  const auto j = nlohmann::json::parse(mereo::synthetic::truth_to_json(f));
+  for (std::size_t i = 0; i < gt.objects_truth.size(); ++i) {
+    const ObjectTruth& o = gt.objects_truth[i];
+    if (o.visible_pixels == 0) {
+      EXPECT_FALSE(j["objects"][i].contains("visible_box"));
+      continue;
+    }
+    const auto& [lo, hi] = box.at(o.id);
+    for (int k = 0; k < 3; ++k) {  // (the depth image is float: its points within ~1e-7 z)
+      EXPECT_NEAR(o.visible_min[k], lo[k], 1e-6 + 1e-6 * std::abs(lo[k])) << o.model;
+      EXPECT_NEAR(o.visible_max[k], hi[k], 1e-6 + 1e-6 * std::abs(hi[k])) << o.model;
+      EXPECT_DOUBLE_EQ(j["objects"][i]["visible_box"]["min"][k].get<double>(), o.visible_min[k]);
+    }
+  }
+}

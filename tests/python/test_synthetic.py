@@ -1,6 +1,6 @@
 """The renderer's options from Python and the command line (SceneOptions described once: the
-same names, defaults and ranges everywhere), and the new scenes (varied handles, lying cans and
-jars, free-form distractors, the stereo depth model) as files."""
+same names, defaults and ranges everywhere), the new scenes (varied handles, lying cans and jars,
+free-form distractors, the stereo depth model) as files, and their evaluation."""
 import json
 import subprocess
 import sys
@@ -70,6 +70,7 @@ def test_cli_renders_the_new_scenes(rendered):
     assert all(o.get("pose") in ("lying", "upright") for o in objects if o["model"] in ("can", "jar"))
     others = [o for o in objects if o["model"] == "other"]
     assert others and all(o["kind"] in ("blob", "banana", "drill", "rounded_box") for o in others)
+    assert all("visible_box" in o for o in objects if o["visible_pixels"] > 0)
     # the files hold the stereo model's depth: what the renderer gives for the same options
     frame = mereo.io.open(rendered)[0]
     sf = S.render(184, S.SceneOptions(**NEW))
@@ -98,3 +99,58 @@ def test_the_depth_models_differ_in_depth_only():
     near = np.isfinite(k.truth.depth) & (k.truth.depth < 1.0)
     err = (s.frame.depth - s.truth.depth)[near]
     assert 0.0005 < np.nanstd(err) < 0.01
+
+
+def truth_answers(truths, other_too=False):
+    """Perfect answers made from the ground truth; with other_too, a mug on each free-form distractor."""
+    out = []
+    for t in truths:
+        objs = []
+        for o in t["objects"]:
+            body = [p for p in o["parts"] if p["role"] == "body" and p["class"] == "cylinder"]
+            if body and o["model"] != "table":
+                c = body[0]["camera"]
+                objs.append({"model": o["model"], "parts": {"body": {"class": "cylinder", "point": c["point"],
+                             "axis": c["axis"], "radius": c["radius"], "height": c["height"]}}})
+            if other_too and o["model"] == "other" and o["visible_pixels"] > 0:
+                box = o["visible_box"]
+                centre = list((np.asarray(box["min"]) + np.asarray(box["max"])) / 2)
+                objs.append({"model": "mug", "parts": {"body": {"class": "cylinder", "point": centre,
+                             "axis": [0, -1, 0], "radius": 0.04, "height": 0.1}}})
+        out.append({"objects": [dict(o, id=i, score=1.0, accepted=True) for i, o in enumerate(objs)]})
+    return out
+
+
+def test_evaluation_counts_results_on_free_form_distractors_and_recall_by_kind():
+    o = S.SceneOptions(**NEW)
+    truths = ev.load_truths(["synthetic:184:2", "synthetic:26"], o)
+    assert len(truths) == 3
+    others = sum(1 for t in truths for x in t["objects"] if x["model"] == "other" and x["visible_pixels"] > 0)
+    assert others >= 3
+    e = ev.evaluate(truth_answers(truths), truths)
+    assert e.on_others == [0, 0, 0] and e.others == others
+    summary = e.summary()
+    assert summary["models"]["mug"]["precision"] == 1.0
+    kinds = summary["kinds"]
+    assert any(k.startswith("mug/") for k in kinds) and ("can/lying" in kinds or "jar/lying" in kinds)
+    for name, k in summary["kinds"].items():
+        assert k["recall"] == 1.0 or np.isnan(k["recall"]), name
+    bad = ev.evaluate(truth_answers(truths, other_too=True), truths)
+    assert sum(bad.on_others) == others and bad.on_others_per_frame == others / 3
+    assert bad.summary()["models"]["mug"]["precision"] < 1.0
+    assert any("free-form distractor" in m for m in bad.mistakes)
+    table = ev.format_table(bad)
+    assert "accepted objects on free-form distractors" in table and "recall by kind" in table
+
+
+def test_cli_evaluate_with_scene_flags(tmp_path, capsys):
+    o = S.SceneOptions(**NEW)
+    truths = ev.load_truths(["synthetic:184:2"], o)
+    results = tmp_path / "r.jsonl"
+    results.write_text("".join(json.dumps(r) + "\n" for r in truth_answers(truths, other_too=True)))
+    flags = ["--depth-model", "stereo", "--handle-shapes", "varied", "--lying-containers", "--freeform-distractors"]
+    assert cli.main(["evaluate", str(results), "synthetic:184:2", *flags, "--json", str(tmp_path / "e.json")]) == 0
+    out = capsys.readouterr().out
+    assert "accepted objects on free-form distractors" in out
+    figures = json.loads((tmp_path / "e.json").read_text())
+    assert len(figures["on_others_by_frame"]) == 2 and figures["on_others"] >= 2

@@ -194,13 +194,21 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
     for (const auto& o : gt.objects_truth)
       for (const auto& p : o.parts) max_label = std::max(max_label, p.label);
     std::vector<std::size_t> part_count(max_label + 1, 0), obj_count(gt.objects_truth.size() + 1, 0);
+    const double inf = std::numeric_limits<double>::infinity();
+    std::vector<Vec3> lo(gt.objects_truth.size() + 1, Vec3::Constant(inf)), hi(lo.size(), Vec3::Constant(-inf));
     for (std::size_t i = 0; i < gt.parts.pixels(); ++i) {
       ++part_count[gt.parts.data()[i]];
-      ++obj_count[gt.objects.data()[i]];
+      const std::uint32_t id = gt.objects.data()[i];
+      ++obj_count[id];
+      if (id == 0) continue;
+      const Vec3 P = ray_t[i] * ray_dir(int(i % std::size_t(W)), int(i / std::size_t(W)));
+      lo[id] = lo[id].cwiseMin(P);
+      hi[id] = hi[id].cwiseMax(P);
     }
     for (auto& o : gt.objects_truth) {
       o.visible_pixels = obj_count[o.id];
       for (auto& p : o.parts) p.visible_pixels = part_count[p.label];
+      if (o.visible_pixels > 0) o.visible_min = lo[o.id], o.visible_max = hi[o.id];
     }
   }
 

@@ -878,6 +878,7 @@ std::string truth_to_json(const SyntheticFrame& f) {
     json jo = {{"id", o.id}, {"model", o.model}, {"visible_pixels", o.visible_pixels}};
     if (!o.pose.empty()) jo["pose"] = o.pose;
     if (!o.kind.empty()) jo["kind"] = o.kind;
+    if (o.visible_pixels > 0) jo["visible_box"] = {{"min", vec_json(o.visible_min)}, {"max", vec_json(o.visible_max)}};
     json parts = json::array();
     for (const auto& p : o.parts) {
       parts.push_back({{"role", p.role},

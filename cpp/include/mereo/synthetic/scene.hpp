@@ -96,6 +96,9 @@ struct ObjectTruth {
   std::string kind;
   std::vector<PartTruth> parts;
   std::size_t visible_pixels = 0;
+  /// The camera-frame box of the visible surface points (exact depth), when any is visible:
+  /// where an evaluation looks for results on an object that has no body to match.
+  Eigen::Vector3d visible_min = Eigen::Vector3d::Zero(), visible_max = Eigen::Vector3d::Zero();
   const PartTruth* part(const std::string& role) const;
 };
 

@@ -13,7 +13,8 @@ using mereo::py_util::to_numpy;
 namespace {
 
 mereo::io::ReadOptions read_options(const py::object& intrinsics, double depth_scale, int frames,
-                                    bool noise, const py::object& distractors, const std::string& depth_format) {
+                                    const py::object& noise, const py::object& distractors,
+                                    const py::object& scene, const std::string& depth_format) {
   mereo::io::ReadOptions o;
   o.depth_format = mereo::io::depth_format(depth_format);
   if (py::isinstance<mereo::Intrinsics>(intrinsics))
@@ -22,16 +23,19 @@ mereo::io::ReadOptions read_options(const py::object& intrinsics, double depth_s
     o.intrinsics = mereo::io::read_intrinsics(py::str(intrinsics).cast<std::string>());
   o.depth_scale = depth_scale;
   o.synthetic_frames = frames;
-  o.synthetic_noise = noise;
-  // False / None: none; True or "beside": tori beside some jars; "leaning": rings leaning on jars
+  if (!scene.is_none()) o.synthetic = scene.cast<mereo::synthetic::SceneOptions>();
+  if (!noise.is_none()) o.synthetic.noise = noise.cast<bool>();
+  // None: the scene's; False: none; True or "beside": tori beside some jars; "leaning": rings
+  // leaning on jars
   if (py::isinstance<py::str>(distractors)) {
     const auto kind = distractors.cast<std::string>();
     if (kind != "beside" && kind != "leaning")
       throw py::value_error("distractors: '" + kind + "' is not one of False, True, 'beside', 'leaning'");
-    o.synthetic_distractors = kind == "beside";
-    o.synthetic_leaning_distractors = kind == "leaning";
-  } else {
-    o.synthetic_distractors = !distractors.is_none() && distractors.cast<bool>();
+    o.synthetic.distractors = kind == "beside";
+    o.synthetic.ambiguous_distractors = kind == "leaning";
+  } else if (!distractors.is_none()) {
+    o.synthetic.distractors = distractors.cast<bool>();
+    o.synthetic.ambiguous_distractors = false;
   }
   return o;
 }
@@ -65,35 +69,37 @@ void bind_io(py::module_& m) {
   const char* kOptionsDoc =
       "intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre "
       "(0 = the format's default); depth_format: 'units', or 'sun3d' / 'nyu-raw' for those datasets' 16-bit "
-      "depth (the files do not say); frames, noise, distractors: for synthetic:SEED (distractors: False, True or "
+      "depth (the files do not say); frames, scene, noise, distractors: for synthetic:SEED (scene: a "
+      "mereo.synthetic.SceneOptions; noise and distractors, when given, override its: distractors False, True or "
       "'beside' for handle-like tori beside some jars, 'leaning' for rings leaning on jars).";
   m.def(
       "open",
-      [](py::object inputs, py::object intrinsics, double depth_scale, int frames, bool noise, py::object distractors,
-         const std::string& depth_format) {
+      [](py::object inputs, py::object intrinsics, double depth_scale, int frames, py::object noise,
+         py::object distractors, py::object scene, const std::string& depth_format) {
         std::vector<std::string> list;
         if (py::isinstance<py::str>(inputs) || py::hasattr(inputs, "__fspath__"))
           list.push_back(py::str(inputs));
         else
           for (auto item : inputs) list.push_back(py::str(item));
-        const auto o = read_options(intrinsics, depth_scale, frames, noise, distractors, depth_format);
+        const auto o = read_options(intrinsics, depth_scale, frames, noise, distractors, scene, depth_format);
         return io::open(list, o);
       },
       py::arg("inputs"), py::kw_only(), py::arg("intrinsics") = py::none(), py::arg("depth_scale") = 0.0,
-      py::arg("frames") = 1, py::arg("noise") = true, py::arg("distractors") = false,
-      py::arg("depth_format") = "units",
+      py::arg("frames") = 1, py::arg("noise") = py::none(), py::arg("distractors") = py::none(),
+      py::arg("scene") = py::none(), py::arg("depth_format") = "units",
       (std::string("Opens files, folders or 'synthetic:SEED' as a Sequence. ") + kOptionsDoc).c_str());
   m.def(
       "read",
-      [](py::object input, py::object intrinsics, double depth_scale, bool noise, py::object distractors,
-         const std::string& depth_format) {
-        const auto o = read_options(intrinsics, depth_scale, 1, noise, distractors, depth_format);
+      [](py::object input, py::object intrinsics, double depth_scale, py::object noise, py::object distractors,
+         py::object scene, const std::string& depth_format) {
+        const auto o = read_options(intrinsics, depth_scale, 1, noise, distractors, scene, depth_format);
         const std::string path = py::str(input);
         py::gil_scoped_release release;
         return io::read(path, o);
       },
       py::arg("input"), py::kw_only(), py::arg("intrinsics") = py::none(), py::arg("depth_scale") = 0.0,
-      py::arg("noise") = true, py::arg("distractors") = false, py::arg("depth_format") = "units",
+      py::arg("noise") = py::none(), py::arg("distractors") = py::none(), py::arg("scene") = py::none(),
+      py::arg("depth_format") = "units",
       (std::string("The first frame of a .pcd file, a PNG pair, a folder, a TUM folder or 'synthetic:SEED'. ") +
        kOptionsDoc).c_str());
   m.def("write_pcd", [](py::object path, const mereo::Frame& f) { io::write_pcd(py::str(path), f); },

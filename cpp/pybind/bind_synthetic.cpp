@@ -5,30 +5,57 @@
 
 #include "mereo/synthetic/scene.hpp"
 #include "numpy_view.hpp"
+#include "options.hpp"
 
 namespace py = pybind11;
 using mereo::py_util::to_numpy;
 
 void bind_synthetic(py::module_& m) {
   namespace syn = mereo::synthetic;
+  namespace pu = mereo::py_util;
+  using O = syn::SceneOptions;
 
-  py::class_<syn::SceneOptions>(m, "SceneOptions", "Options of the synthetic tabletop scene.")
-      .def(py::init<>())
-      .def_readwrite("width", &syn::SceneOptions::width)
-      .def_readwrite("height", &syn::SceneOptions::height)
-      .def_readwrite("intrinsics", &syn::SceneOptions::intrinsics)
-      .def_readwrite("noise", &syn::SceneOptions::noise)
-      .def_readwrite("distractors", &syn::SceneOptions::distractors)
-      .def_readwrite("ambiguous_distractors", &syn::SceneOptions::ambiguous_distractors)
-      .def_readwrite("tapered_cups", &syn::SceneOptions::tapered_cups,
-                     "one or two tapered cups (cone bodies, 4-10 degrees) join the objects")
-      .def_readwrite("min_objects", &syn::SceneOptions::min_objects)
-      .def_readwrite("max_objects", &syn::SceneOptions::max_objects)
-      .def_readwrite("min_distance", &syn::SceneOptions::min_distance)
-      .def_readwrite("max_distance", &syn::SceneOptions::max_distance)
-      .def_readwrite("min_elevation_deg", &syn::SceneOptions::min_elevation_deg)
-      .def_readwrite("max_elevation_deg", &syn::SceneOptions::max_elevation_deg)
-      .def_readwrite("orbit_step_deg", &syn::SceneOptions::orbit_step_deg);
+  // every option of the description (SceneOptions::fields()) is a checked attribute and a
+  // keyword of the constructor; the intrinsics are not described
+  pu::register_options<O>("SceneOptions");
+  py::class_<O> options(
+      m, "SceneOptions",
+      pu::takes_options(m, "SceneOptions", "SceneOptions",
+                        "Options of the synthetic tabletop scene: SceneOptions(depth_model='stereo', ...) or "
+                        "attribute by attribute.")
+          .c_str());
+  options.def(py::init([](const py::kwargs& kw) { return pu::options_from_kwargs<O>("SceneOptions", kw); }))
+      .def_readwrite("intrinsics", &O::intrinsics)
+      .def("__repr__", [](const O& o) {
+        std::string s;
+        const O def{};
+        for (const auto& f : O::fields())
+          if (f.get(o) != f.get(def))
+            s += (s.empty() ? "" : ", ") + f.name + "=" +
+                 (f.kind == mereo::FieldKind::Text || f.kind == mereo::FieldKind::Choice ? "'" + mereo::to_text(f.get(o)) + "'"
+                  : f.kind == mereo::FieldKind::Bool ? (std::get<bool>(f.get(o)) ? "True" : "False")
+                                                     : mereo::to_text(f.get(o)));
+        return "SceneOptions(" + s + ")";
+      });
+  for (const auto& f : O::fields()) {
+    auto set = [&f](O& o, const py::object& v) {
+      mereo::assign(o, f, pu::field_value_from_python("SceneOptions", f.name, f.kind, v));
+    };
+    // typed getters (the stubs show the types); the setter checks type and range
+    switch (f.kind) {
+      case mereo::FieldKind::Bool:
+        options.def_property(f.name.c_str(), [&f](const O& o) { return std::get<bool>(f.get(o)); }, set, f.doc.c_str());
+        break;
+      case mereo::FieldKind::Int:
+        options.def_property(f.name.c_str(), [&f](const O& o) { return std::get<long long>(f.get(o)); }, set, f.doc.c_str());
+        break;
+      case mereo::FieldKind::Real:
+        options.def_property(f.name.c_str(), [&f](const O& o) { return std::get<double>(f.get(o)); }, set, f.doc.c_str());
+        break;
+      default:
+        options.def_property(f.name.c_str(), [&f](const O& o) { return std::get<std::string>(f.get(o)); }, set, f.doc.c_str());
+    }
+  }
 
   py::class_<syn::GroundTruth>(m, "GroundTruth",
                                "Exact ground truth: clean depth, analytic normals, object and part labels.")

@@ -1,12 +1,15 @@
 """The `mereo` command line.
 
   mereo demo [--seed N] [--out DIR]           render the default scene, show what is in it
-  mereo render synthetic:SEED [--frames N] --out DIR   frames plus ground truth
+  mereo render synthetic:SEED [--frames N] --out DIR [SCENE FLAGS]   frames plus ground truth
+               (scene flags: --depth-model stereo, --handle-shapes varied, --lying-containers,
+                --freeform-distractors, --tapered-cups, --distractors...: `mereo render -h`)
   mereo info INPUT...                          what the inputs hold (size, depth range, camera)
   mereo recognize INPUT... [--models NAME_OR_FILE...] [--goal NAME] [--out FILE.jsonl]
                   [--overlay DIR] [--graph FILE] [--intrinsics ...] [--depth-scale S]
                                                recognized objects, one JSON line per frame
-  mereo evaluate RESULTS.jsonl GROUND_TRUTH...  precision, recall and errors per model
+  mereo evaluate RESULTS.jsonl GROUND_TRUTH...  precision, recall and errors per model, results
+                                               on free-form distractors per frame
 
 Bad input prints one line (`mereo: error: ...`) and exits with status 2.
 """
@@ -33,11 +36,41 @@ def _progress(iterable, total, desc):
     return tqdm(iterable, total=total, desc=desc, unit="frame", file=sys.stderr)
 
 
+# SceneOptions' options that have flags of their own (--no-noise, --distractors, --leaning-distractors)
+_OWN_SCENE_FLAGS = {"noise", "distractors", "ambiguous_distractors"}
+
+
+def _scene_option_flags():
+    """The command line's scene flags, from SceneOptions' description (declared once, in C++):
+    a flag for each yes/no option (--lying-containers) and each choice (--depth-model stereo)."""
+    from . import options_of
+
+    return [o for o in options_of("SceneOptions")
+            if o["type"] in ("bool", "str") and o["name"] not in _OWN_SCENE_FLAGS]
+
+
+def _scene_flags(q, noise: bool = True) -> None:
+    """synthetic:SEED: the scene's flags."""
+    if noise:
+        q.add_argument("--no-noise", action="store_true", help="clean depth (no depth model's noise)")
+    _distractor_flags(q)
+    for o in _scene_option_flags():
+        flag = "--" + o["name"].replace("_", "-")
+        if o["type"] == "bool":
+            q.add_argument(flag if not o["default"] else "--no-" + flag[2:], dest=o["name"], default=o["default"],
+                           action="store_false" if o["default"] else "store_true", help=f"synthetic:SEED: {o['doc']}")
+        else:
+            q.add_argument(flag, dest=o["name"], choices=o["choices"], default=o["default"],
+                           help=f"synthetic:SEED: {o['doc']} (default {o['default']})")
+
+
 def _scene_options(args) -> synthetic.SceneOptions:
     o = synthetic.SceneOptions()
-    o.noise = not args.no_noise
+    o.noise = not getattr(args, "no_noise", False)
     o.distractors = args.distractors == "beside"
     o.ambiguous_distractors = args.distractors == "leaning"
+    for f in _scene_option_flags():
+        setattr(o, f["name"], getattr(args, f["name"]))
     return o
 
 
@@ -103,7 +136,8 @@ def cmd_demo(args) -> int:
     f = sf.frame
     print(f"mereo {_mereo.__version__}: synthetic:{args.seed}, {f.shape[1]}x{f.shape[0]}, camera {f.intrinsics}")
     valid = np.isfinite(f.depth)
-    print(f"depth: {valid.mean():.1%} valid, {np.nanmin(f.depth):.2f}-{np.nanmax(f.depth):.2f} m (Kinect-like noise {'on' if o.noise else 'off'})")
+    model = "Kinect-like" if o.depth_model == "kinect" else "active-stereo"
+    print(f"depth: {valid.mean():.1%} valid, {np.nanmin(f.depth):.2f}-{np.nanmax(f.depth):.2f} m ({model} noise {'on' if o.noise else 'off'})")
     print("objects in the scene (ground truth, visible pixels):")
     print("\n".join(_summarize_truth(sf)))
     _write_synthetic(sf, out, "0000")
@@ -151,7 +185,7 @@ def cmd_render(args) -> int:
         _write_synthetic(sf, out, name)
         if args.preview:
             save_preview(out / f"{name}_preview.png", sf.frame, sf.truth)
-    print(f"wrote {args.frames} frame(s) of synthetic:{seed} with ground truth to {out}")
+    print(f"wrote {args.frames} frame(s) of synthetic:{seed} ({o}) with ground truth to {out}")
     return 0
 
 
@@ -200,8 +234,7 @@ def cmd_recognize(args) -> int:
         before = set(load_models().names())
         names = [n for n in load_models(models_file).names() if n not in before]
     seq = io.open(args.inputs, intrinsics=args.intrinsics, depth_scale=args.depth_scale,
-                  depth_format=args.depth_format, frames=args.frames,
-                  distractors=args.distractors or False)
+                  depth_format=args.depth_format, frames=args.frames, scene=_scene_options(args))
     # one input that is a sequence (a folder, a TUM folder, synthetic:SEED --frames N) is tracked
     # (graphs/tabletop_tracking.yaml: "track" ids, false hypotheses dropped); separate inputs are not
     # (--sequence: the inputs, e.g. a list of .pcd files, are one sequence and tracked too)
@@ -260,7 +293,7 @@ def cmd_evaluate(args) -> int:
 
     try:
         results = ev.load_results(args.results)
-        truths = ev.load_truths(args.truth)
+        truths = ev.load_truths(args.truth, _scene_options(args))
         e = ev.evaluate(results, truths)
     except ValueError as err:
         raise _mereo.InputError(str(err)) from None
@@ -286,9 +319,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"mereo {_mereo.__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
-    def scene_flags(q):
-        q.add_argument("--no-noise", action="store_true", help="clean depth (no Kinect-like noise)")
-        _distractor_flags(q)
+    scene_flags = _scene_flags
 
     d = sub.add_parser("demo", help="render the default scene and show what is in it")
     d.add_argument("--seed", type=int, default=0)
@@ -334,7 +365,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "with warnings and the run goes on (skip, the default), or stop with an error")
     g.add_argument("--odometry", action="store_true",
                    help="a sequence: estimate the camera poses (RGB-D odometry) even where the input has them")
-    _distractor_flags(g)
+    _scene_flags(g, noise=False)
     g.set_defaults(run=cmd_recognize)
 
     e = sub.add_parser("evaluate", help="precision, recall and errors against the renderer's ground truth")
@@ -342,6 +373,7 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("truth", nargs="+", help="NNNN_truth.json files, folders of them, or synthetic:SEED[:FRAMES]")
     e.add_argument("--mistakes", action="store_true", help="also list every false and missed object")
     e.add_argument("--json", help="write the figures as JSON here")
+    _scene_flags(e)
     e.set_defaults(run=cmd_evaluate)
     return p
 

@@ -10,10 +10,17 @@ Then, per model:
   pixels, a bowl's outer sphere included; a mug's handle with at least 150) and recognized as
   that model;
 - errors of the matched bodies: position (result centre to true axis), radius, axis angle;
-- for jars and cans: the share not reported as mugs.
+- for jars and cans: the share not reported as mugs;
+- recall by kind where the ground truth tells kinds apart: a mug's handle shape ("mug/d",
+  "mug/band"...), a can's or jar's pose ("can/lying");
+- results on free-form distractors (model "other": blobs, bananas, drills, rounded boxes, not to
+  be recognized): an accepted result that matches no true object and has a part's centre within
+  `max_offset` of the box of an "other"'s visible surface; counted per frame, and false
+  positives of their model.
 
 Ground truth comes from `mereo render ... --out DIR` (DIR/NNNN_truth.json), a truth file, or
-`synthetic:SEED` (rendered again). Results and truths are paired in order.
+`synthetic:SEED` (rendered again, with the scene options given). Results and truths are paired
+in order.
 """
 from __future__ import annotations
 
@@ -43,19 +50,21 @@ def load_results(path) -> list[dict]:
     return out
 
 
-def load_truths(specs) -> list[dict]:
-    """Ground truths from truth files, folders of NNNN_truth.json, or synthetic:SEED[:FRAMES]."""
+def load_truths(specs, options=None) -> list[dict]:
+    """Ground truths from truth files, folders of NNNN_truth.json, or synthetic:SEED[:FRAMES]
+    (rendered with `options`, a mereo.synthetic.SceneOptions; the default scene without)."""
     from . import synthetic
 
+    options = options if options is not None else synthetic.SceneOptions()
     out = []
     for spec in specs:
         spec = str(spec)
         if spec.startswith("synthetic:"):
             parts = spec.split(":")
             seed, frames = int(parts[1]), int(parts[2]) if len(parts) > 2 else 1
-            scene = synthetic.generate_scene(seed)
+            scene = synthetic.generate_scene(seed, options)
             for i in range(frames):
-                out.append(json.loads(synthetic.render_view(scene, i).truth_json()))
+                out.append(json.loads(synthetic.render_view(scene, i, options).truth_json()))
             continue
         p = Path(spec)
         if p.is_dir():
@@ -91,17 +100,29 @@ class ModelStats:
 class Evaluation:
     frames: int = 0
     models: dict = field(default_factory=dict)   # model -> ModelStats
+    kinds: dict = field(default_factory=dict)    # "model/kind" -> ModelStats (eligible, found)
     jars_cans: int = 0                           # true jars and cans (eligible)
     jars_cans_as_mugs: int = 0
+    others: int = 0                              # free-form distractors ("other") in view
+    on_others: list = field(default_factory=list)  # per frame: accepted results on them
     mistakes: list = field(default_factory=list)  # "frame: what"
 
     @property
     def jars_cans_not_mugs(self) -> float:
         return 1 - self.jars_cans_as_mugs / self.jars_cans if self.jars_cans else math.nan
 
+    @property
+    def on_others_per_frame(self) -> float:
+        return sum(self.on_others) / self.frames if self.frames else math.nan
+
     def summary(self) -> dict:
         out = {"frames": self.frames, "jars_cans": self.jars_cans,
-               "jars_cans_not_mugs": self.jars_cans_not_mugs, "models": {}}
+               "jars_cans_not_mugs": self.jars_cans_not_mugs,
+               "others": self.others, "on_others": sum(self.on_others),
+               "on_others_per_frame": self.on_others_per_frame, "on_others_by_frame": list(self.on_others),
+               "kinds": {name: {"eligible": s.eligible, "found": s.found, "recall": s.recall}
+                         for name, s in sorted(self.kinds.items())},
+               "models": {}}
         for name, s in sorted(self.models.items()):
             out["models"][name] = {
                 "results": s.results, "precision": s.precision, "eligible": s.eligible, "recall": s.recall,
@@ -139,6 +160,31 @@ def _match(result_body: dict, truths: list[dict], max_offset: float, max_radius_
     return best, best_d
 
 
+def _centres(result: dict):
+    """The centres of a result's parts (cylinders' points, tori's and spheres' centres)."""
+    for p in result["parts"].values():
+        c = p.get("point", p.get("center"))
+        if c is not None and len(c) == 3:
+            yield np.asarray(c, dtype=float)
+
+
+def _on_other(result: dict, others: list[dict], max_offset: float):
+    """The "other" object whose visible box (grown by max_offset) holds a centre of the result."""
+    for t in others:
+        box = t.get("visible_box")
+        if box is None:
+            continue
+        lo, hi = np.asarray(box["min"]) - max_offset, np.asarray(box["max"]) + max_offset
+        if any(np.all(c >= lo) and np.all(c <= hi) for c in _centres(result)):
+            return t
+    return None
+
+
+def _kind(t: dict) -> str:
+    """What tells a true object's kind apart: a mug's handle shape, a can's or jar's pose."""
+    return t.get("kind") or t.get("pose") or ""
+
+
 def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
              max_radius_error: float = 0.01) -> Evaluation:
     if len(results) != len(truths):
@@ -146,7 +192,10 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
     ev = Evaluation(frames=len(results))
     for res, truth in zip(results, truths):
         tag = f'{truth.get("source", "")}#{truth.get("frame", "")}'
-        objects = [o for o in truth["objects"] if o["model"] not in ("floor", "wall", "table")]
+        objects = [o for o in truth["objects"] if o["model"] not in ("floor", "wall", "table", "other")]
+        others = [o for o in truth["objects"] if o["model"] == "other" and o["visible_pixels"] > 0]
+        ev.others += len(others)
+        ev.on_others.append(0)
         claimed: dict[int, str] = {}  # true object id -> model claimed
         for o in res["objects"]:
             if not o.get("accepted", True):
@@ -158,7 +207,13 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
             if body is not None and body["class"] in ("cylinder", "sphere"):
                 t, d = _match(body, objects, max_offset, max_radius_error)
             if t is None:
-                ev.mistakes.append(f"{tag}: {o['model']} {o['score']:.2f} matches no object")
+                other = _on_other(o, others, max_offset)
+                if other is not None:
+                    ev.on_others[-1] += 1
+                    ev.mistakes.append(f"{tag}: {o['model']} {o['score']:.2f} on the {other.get('kind', 'other')} "
+                                       f"{other['id']} (a free-form distractor)")
+                else:
+                    ev.mistakes.append(f"{tag}: {o['model']} {o['score']:.2f} matches no object")
                 continue
             claimed[t["id"]] = o["model"]
             if t["model"] != o["model"]:
@@ -181,9 +236,14 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
                 if not h or h[0]["visible_pixels"] < MIN_HANDLE_PIXELS:
                     continue
             s = ev.models.setdefault(t["model"], ModelStats())
+            k = ev.kinds.setdefault(f"{t['model']}/{_kind(t)}", ModelStats()) if _kind(t) else None
             s.eligible += 1
+            if k is not None:
+                k.eligible += 1
             if claimed.get(t["id"]) == t["model"]:
                 s.found += 1
+                if k is not None:
+                    k.found += 1
             else:
                 ev.mistakes.append(f"{tag}: the {t['model']} {t['id']} is missed"
                                    + (f" (taken for a {claimed[t['id']]})" if t["id"] in claimed else ""))
@@ -206,4 +266,9 @@ def format_table(ev: Evaluation) -> str:
                      f"{f(s['median_radius_mm'], '.2f'):>10} {f(s['median_axis_deg'], '.2f'):>9}")
     lines.append(f"jars and cans not reported as mugs: {ev.jars_cans - ev.jars_cans_as_mugs}/{ev.jars_cans} "
                  f"({f(ev.jars_cans_not_mugs, '.3f')})")
+    if ev.kinds:
+        lines.append("recall by kind: " + ", ".join(f"{name} {s.found}/{s.eligible}" for name, s in sorted(ev.kinds.items())))
+    if ev.others:
+        lines.append(f"accepted objects on free-form distractors: {sum(ev.on_others)} "
+                     f"({f(ev.on_others_per_frame, '.2f')} per frame; {ev.others} distractors in view)")
     return "\n".join(lines)

@@ -250,10 +250,7 @@ void open_synthetic(Sequence& seq, const std::string& input, const ReadOptions& 
   if (used == 0 || used != text.size())
     throw InputError(input + ": expected synthetic:SEED with SEED a non-negative integer");
   if (o.synthetic_frames < 1) throw InputError(input + ": the number of frames must be at least 1");
-  synthetic::SceneOptions so;
-  so.noise = o.synthetic_noise;
-  so.distractors = o.synthetic_distractors;
-  so.ambiguous_distractors = o.synthetic_leaning_distractors;
+  synthetic::SceneOptions so = o.synthetic;
   if (o.intrinsics) so.intrinsics = *o.intrinsics;
   auto scene = std::make_shared<synthetic::Scene>(synthetic::generate_scene(seed, so));
   for (int i = 0; i < o.synthetic_frames; ++i) {

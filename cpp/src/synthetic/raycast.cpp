@@ -228,9 +228,75 @@ bool hit_torus(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double 
   return false;
 }
 
-}  // namespace
+/// An ellipsoid: the unit sphere in its scaled local frame (the same ray parameter t).
+bool hit_ellipsoid(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax, Hit& h) {
+  const Vec3 w = o - p.c;
+  const Vec3 ol(w.dot(p.b) / p.half.x(), w.dot(p.e) / p.half.y(), w.dot(p.a) / p.half.z());
+  const Vec3 dl(d.dot(p.b) / p.half.x(), d.dot(p.e) / p.half.y(), d.dot(p.a) / p.half.z());
+  double t1, t2;
+  if (!solve_quadratic(dl.squaredNorm(), ol.dot(dl), ol.squaredNorm() - 1.0, t1, t2)) return false;
+  for (double t : {t1, t2}) {
+    if (!(t > tmin && t < tmax)) continue;
+    const Vec3 q = ol + t * dl;  // on the unit sphere; the gradient of |L^-1 x|^2 in the world
+    h.t = t;
+    h.n = (q.x() / p.half.x() * p.b + q.y() / p.half.y() * p.e + q.z() / p.half.z() * p.a).normalized();
+    return true;
+  }
+  return false;
+}
 
-bool intersect(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax, Hit& hit) {
+inline bool in_arc(const Prim& p, const Vec3& radial) {
+  if (p.arc_len >= kTwoPi) return true;
+  double th = std::atan2(radial.dot(p.e), radial.dot(p.b)) - p.arc0;
+  th = std::fmod(th, kTwoPi);
+  if (th < 0) th += kTwoPi;
+  return th <= p.arc_len;
+}
+
+/// An annular sector of a cylinder: outer and inner lateral surfaces and the two flat caps.
+bool hit_ring(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax, Hit& h) {
+  const Vec3 w = o - p.c;
+  const double da = d.dot(p.a), wa = w.dot(p.a);
+  const Vec3 dp = d - da * p.a, wp = w - wa * p.a;
+  bool found = false;
+  double best = tmax;
+  for (const double radius : {p.r, p.r_in}) {
+    double t1, t2;
+    if (!solve_quadratic(dp.squaredNorm(), dp.dot(wp), wp.squaredNorm() - radius * radius, t1, t2)) continue;
+    for (double t : {t1, t2}) {
+      if (!(t > tmin && t < best)) continue;
+      if (std::abs(wa + t * da) > p.half_h) continue;
+      const Vec3 radial = wp + t * dp;
+      if (!in_arc(p, radial)) continue;
+      best = t;
+      found = true;
+      h.t = t;
+      h.n = (radius == p.r ? 1.0 : -1.0) * radial.normalized();
+    }
+  }
+  if (std::abs(da) > 1e-14) {
+    for (const double side : {-1.0, 1.0}) {
+      const double t = (side * p.half_h - wa) / da;
+      if (!(t > tmin && t < best)) continue;
+      const Vec3 radial = wp + t * dp;
+      const double r2 = radial.squaredNorm();
+      if (r2 > p.r * p.r || r2 < p.r_in * p.r_in || !in_arc(p, radial)) continue;
+      best = t;
+      found = true;
+      h.t = t;
+      h.n = side * p.a;
+    }
+  }
+  return found;
+}
+
+inline bool inside_clip(const Prim& p, const Vec3& x) {
+  const Vec3 w = x - p.clip_c;
+  const double wa = w.dot(p.clip_a);
+  return std::abs(wa) <= p.clip_half_h && (w - wa * p.clip_a).squaredNorm() < p.clip_r * p.clip_r;
+}
+
+bool intersect_surface(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax, Hit& hit) {
   switch (p.kind) {
     case Kind::Plane: return hit_plane(p, o, d, tmin, tmax, hit);
     case Kind::Box: return hit_box(p, o, d, tmin, tmax, hit);
@@ -239,6 +305,22 @@ bool intersect(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double 
     case Kind::Disc: return hit_disc(p, o, d, tmin, tmax, hit);
     case Kind::SphereZone: return hit_sphere_zone(p, o, d, tmin, tmax, hit);
     case Kind::Torus: return hit_torus(p, o, d, tmin, tmax, hit);
+    case Kind::Ellipsoid: return hit_ellipsoid(p, o, d, tmin, tmax, hit);
+    case Kind::Ring: return hit_ring(p, o, d, tmin, tmax, hit);
+  }
+  return false;
+}
+
+}  // namespace
+
+bool intersect(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax, Hit& hit) {
+  // a torus clips its own roots (hit_torus); the others: the next hit beyond a clipped one
+  if (!p.clip || p.kind == Kind::Torus) return intersect_surface(p, o, d, tmin, tmax, hit);
+  double from = tmin;
+  for (int k = 0; k < 8; ++k) {
+    if (!intersect_surface(p, o, d, from, tmax, hit)) return false;
+    if (!inside_clip(p, o + hit.t * d)) return true;
+    from = hit.t;
   }
   return false;
 }
@@ -253,8 +335,43 @@ Bound bound_of(const Prim& p) {
     case Kind::Disc: b.c = p.c; b.r = p.r; break;
     case Kind::SphereZone: b.c = p.c; b.r = p.r; break;
     case Kind::Torus: b.c = p.c; b.r = p.r + p.r_in; break;
+    case Kind::Ellipsoid: b.c = p.c; b.r = p.half.maxCoeff(); break;
+    case Kind::Ring: b.c = p.c; b.r = std::hypot(p.r, p.half_h); break;
   }
   return b;
+}
+
+bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax,
+                  RayHit& out) {
+  double best = tmax;
+  bool found = false;
+  Hit h;
+  for (std::size_t i = 0; i < rs.objects.size(); ++i) {
+    const RenderObject& ro = rs.objects[i];
+    if (!ray_hits_sphere(ro.bound, o, d, tmin, best)) continue;
+    for (int k = ro.first; k < ro.first + ro.count; ++k) {
+      if (intersect(rs.prims[k], o, d, tmin, best, h)) {
+        best = h.t;
+        found = true;
+        out.t = h.t;
+        out.n = h.n;
+        out.label = rs.prims[k].label;
+        out.object = rs.prims[k].object;
+        out.obj_index = int(i);
+      }
+    }
+  }
+  return found;
+}
+
+bool cast_any(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax) {
+  Hit h;
+  for (const RenderObject& ro : rs.objects) {
+    if (!ray_hits_sphere(ro.bound, o, d, tmin, tmax)) continue;
+    for (int k = ro.first; k < ro.first + ro.count; ++k)
+      if (intersect(rs.prims[k], o, d, tmin, tmax, h)) return true;
+  }
+  return false;
 }
 
 }  // namespace mereo::synthetic::detail

@@ -3,9 +3,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
+
+namespace mereo::synthetic {
+struct Shape;
+}
 
 namespace mereo::synthetic::detail {
 
@@ -60,7 +65,7 @@ class Rng {
 
 // ---- primitives in a common frame (the camera frame while rendering) ----------------------
 
-enum class Kind { Plane, Box, Cylinder, Disc, SphereZone, Torus, Cone };
+enum class Kind { Plane, Box, Cylinder, Disc, SphereZone, Torus, Cone, Ellipsoid, Ring };
 
 struct Prim {
   Kind kind = Kind::Plane;
@@ -68,14 +73,15 @@ struct Prim {
   Vec3 a = Vec3::UnitZ();         // axis / normal
   Vec3 b = Vec3::UnitX();         // reference axis (box local x, torus arc zero)
   Vec3 e = Vec3::UnitY();         // a x b (box local y, torus arc +90 deg)
-  Vec3 half = Vec3::Zero();       // box half extents (x, y, z) = (b, e, a)
+  Vec3 half = Vec3::Zero();       // box and ellipsoid half extents (x, y, z) = (b, e, a)
   double r = 0;                   // radius / outer radius / torus major radius
-  double r_in = 0;                // disc inner radius / torus minor radius
-  double half_h = 0;              // cylinder and cone half height
+  double r_in = 0;                // disc and ring inner radius / torus minor radius
+  double half_h = 0;              // cylinder, cone and ring half height
   double slope = 0;               // cone: tan(half-angle), its radius r + slope * (along a)
   double hmin = 0, hmax = 0;      // sphere zone offsets along a
-  double arc0 = 0, arc_len = 0;   // torus arc [arc0, arc0 + arc_len], arc_len >= 2 pi: all
-  bool clip = false;              // torus: do not render inside this solid cylinder
+  double arc0 = 0, arc_len = 0;   // torus and ring arc [arc0, arc0 + arc_len] from b towards e;
+                                  // arc_len >= 2 pi: all
+  bool clip = false;              // do not render inside this solid cylinder (a mug's handle)
   Vec3 clip_c = Vec3::Zero(), clip_a = Vec3::UnitZ();
   double clip_r = 0, clip_half_h = 0;
   std::uint32_t label = 0;        // part label
@@ -90,7 +96,15 @@ struct Hit {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 constexpr double kTorusStep = 0.0005;  // metres between samples of the torus quartic
 
-/// The nearest intersection of the ray o + t d (|d| = 1) with `p` for t in (tmin, tmax).
+// Kinds: Plane (c, normal a); Box (centre c, axes b e a, half); Cylinder (open: lateral surface,
+// centre c, axis a, r, half_h); Cone (c, a, r at c, slope, half_h); Disc (c, normal a, r, r_in);
+// SphereZone (c, r, offsets hmin..hmax along a); Torus (c, axis a, major r, minor r_in, arc);
+// Ellipsoid (c, axes b e a, semi-axes half); Ring: an annular sector of a cylinder (the solid
+// between radii r_in and r about the axis a through c, |offset| <= half_h, over the arc), its
+// two lateral surfaces and two flat caps; open at the arc's ends (where a neighbour joins).
+
+/// The nearest intersection of the ray o + t d (|d| = 1) with `p` for t in (tmin, tmax),
+/// outside p's clip cylinder if it has one.
 bool intersect(const Prim& p, const Vec3& o, const Vec3& d, double tmin, double tmax, Hit& hit);
 
 /// A bounding sphere; radius < 0 means unbounded (planes).
@@ -113,5 +127,37 @@ inline bool ray_hits_sphere(const Bound& s, const Vec3& o, const Vec3& d, double
 }
 
 Bound bound_of(const Prim& p);
+
+/// Appends the primitives of `s` (one, or the pieces of a composite: prims.cpp); throws
+/// std::invalid_argument for an unknown class.
+void append_prims(const Shape& s, std::vector<Prim>& out);
+
+// ---- a scene of primitives, grouped by object ---------------------------------------------
+
+struct RenderObject {
+  Bound bound;
+  int first = 0, count = 0;
+  std::uint32_t id = 0;
+  Eigen::Vector3f color;
+};
+
+struct RenderScene {
+  std::vector<Prim> prims;
+  std::vector<RenderObject> objects;
+};
+
+struct RayHit {
+  double t = std::numeric_limits<double>::infinity();
+  Vec3 n = Vec3::Zero();
+  std::uint32_t label = 0, object = 0;
+  int obj_index = -1;
+};
+
+/// Nearest hit along o + t d, t in (tmin, tmax).
+bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax,
+                  RayHit& out);
+
+/// Does anything block o + t d for t in (tmin, tmax)?
+bool cast_any(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax);
 
 }  // namespace mereo::synthetic::detail

@@ -1,4 +1,5 @@
-// Ray casting of a synthetic scene: exact ground truth and a Kinect-like noise model.
+// Ray casting of a synthetic scene: exact ground truth, colour, and the depth models (the
+// Kinect-like one here, the active-stereo one in depth_stereo.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mereo/synthetic/scene.hpp"
+#include "depth_models.hpp"
 #include "raycast.hpp"
 
 namespace mereo::synthetic {
@@ -19,72 +21,15 @@ using detail::Bound;
 using detail::Hit;
 using detail::Kind;
 using detail::Prim;
+using detail::RayHit;
+using detail::RenderObject;
+using detail::RenderScene;
 using detail::Vec3;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kBaseline = 0.075;  // projector-camera baseline, metres (projector at +x)
-
-struct RenderObject {
-  Bound bound;
-  int first = 0, count = 0;
-  std::uint32_t id = 0;
-  Eigen::Vector3f color;
-};
-
-struct RenderScene {
-  std::vector<Prim> prims;
-  std::vector<RenderObject> objects;
-};
-
-Prim prim_of(const Shape& s) {
-  Prim p;
-  p.c = s.point;
-  p.a = s.axis.normalized();
-  if (s.cls == "plane") {
-    p.kind = Kind::Plane;
-  } else if (s.cls == "box") {
-    p.kind = Kind::Box;
-    p.b = (s.axis2 - s.axis2.dot(p.a) * p.a).normalized();
-    p.e = p.a.cross(p.b);
-    p.half = 0.5 * s.size;
-  } else if (s.cls == "cylinder") {
-    p.kind = Kind::Cylinder;
-    p.r = s.radius;
-    p.half_h = 0.5 * s.height;
-  } else if (s.cls == "cone") {
-    p.kind = Kind::Cone;
-    p.r = s.radius;
-    p.half_h = 0.5 * s.height;
-    p.slope = std::tan(s.angle);
-  } else if (s.cls == "disc") {
-    p.kind = Kind::Disc;
-    p.r = s.radius;
-    p.r_in = s.minor_radius;
-  } else if (s.cls == "sphere") {
-    p.kind = Kind::SphereZone;
-    p.r = s.radius;
-    p.hmin = s.height_min;
-    p.hmax = s.height_max;
-  } else if (s.cls == "torus") {
-    p.kind = Kind::Torus;
-    p.b = (s.axis2 - s.axis2.dot(p.a) * p.a).normalized();
-    p.e = p.a.cross(p.b);
-    p.r = s.radius;
-    p.r_in = s.minor_radius;
-    if (s.arc_end > s.arc_start) {
-      p.arc0 = s.arc_start;
-      p.arc_len = s.arc_end - s.arc_start;
-    } else {
-      p.arc0 = 0;
-      p.arc_len = detail::kTwoPi;
-    }
-  } else {
-    throw std::invalid_argument("synthetic: unknown shape class '" + s.cls + "'");
-  }
-  return p;
-}
 
 /// Camera-frame primitives of the scene, and the ground-truth part list.
 RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<ObjectTruth>& truth) {
@@ -97,6 +42,8 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
     ObjectTruth ot;
     ot.id = std::uint32_t(i + 1);
     ot.model = so.model;
+    ot.pose = so.pose;
+    ot.kind = so.kind;
     RenderObject ro;
     ro.id = ot.id;
     ro.color = so.color;
@@ -111,19 +58,24 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
       pt.world = shape;
       pt.camera = shape.transformed(world_to_camera);
       pt.label = ++label;
-      Prim p = prim_of(pt.camera);
-      p.label = pt.label;
-      p.object = ot.id;
-      if (p.kind == Kind::Torus && body != nullptr) {
-        // A mug handle: hide the tube inside the body; the arc only excludes the inner side of
-        // the ring (every point of the tube where the centre circle is closer to the body axis
-        // than R - minor lies inside the body).
+      const std::size_t first = rs.prims.size();
+      detail::append_prims(pt.camera, rs.prims);
+      for (std::size_t k = first; k < rs.prims.size(); ++k) {
+        Prim& p = rs.prims[k];
+        p.label = pt.label;
+        p.object = ot.id;
+        if (body == nullptr || role != "handle") continue;
+        // A mug handle: hide what is inside the body (the ends that go into the wall).
         const Shape bc = body->transformed(world_to_camera);
         p.clip = true;
         p.clip_c = bc.point;
         p.clip_a = bc.axis.normalized();
         p.clip_r = bc.radius;
         p.clip_half_h = 0.5 * bc.height;
+        if (pt.camera.cls != "torus") continue;
+        // A torus arc: the arc only excludes the inner side of the ring (every point of the
+        // tube where the centre circle is closer to the body axis than R - minor lies inside
+        // the body).
         const Vec3 w = p.c - p.clip_c;
         const double dist = (w - w.dot(p.clip_a) * p.clip_a).norm();
         const double x = std::clamp((bc.radius - p.r_in - dist) / p.r, -1.0, 1.0);
@@ -131,7 +83,6 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
         p.arc0 = -half;
         p.arc_len = 2 * half;
       }
-      rs.prims.push_back(p);
       ot.parts.push_back(std::move(pt));
     }
     ro.count = int(rs.prims.size()) - ro.first;
@@ -159,48 +110,6 @@ RenderScene build(const Scene& scene, const Pose& camera_pose, std::vector<Objec
     truth.push_back(std::move(ot));
   }
   return rs;
-}
-
-struct RayHit {
-  double t = std::numeric_limits<double>::infinity();
-  Vec3 n = Vec3::Zero();
-  std::uint32_t label = 0, object = 0;
-  int obj_index = -1;
-};
-
-/// Nearest hit along o + t d, t in (tmin, tmax).
-bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax,
-                  RayHit& out) {
-  double best = tmax;
-  bool found = false;
-  Hit h;
-  for (std::size_t i = 0; i < rs.objects.size(); ++i) {
-    const RenderObject& ro = rs.objects[i];
-    if (!detail::ray_hits_sphere(ro.bound, o, d, tmin, best)) continue;
-    for (int k = ro.first; k < ro.first + ro.count; ++k) {
-      if (detail::intersect(rs.prims[k], o, d, tmin, best, h)) {
-        best = h.t;
-        found = true;
-        out.t = h.t;
-        out.n = h.n;
-        out.label = rs.prims[k].label;
-        out.object = rs.prims[k].object;
-        out.obj_index = int(i);
-      }
-    }
-  }
-  return found;
-}
-
-/// Does anything block o + t d for t in (tmin, tmax)?
-bool cast_any(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax) {
-  Hit h;
-  for (const RenderObject& ro : rs.objects) {
-    if (!detail::ray_hits_sphere(ro.bound, o, d, tmin, tmax)) continue;
-    for (int k = ro.first; k < ro.first + ro.count; ++k)
-      if (detail::intersect(rs.prims[k], o, d, tmin, tmax, h)) return true;
-  }
-  return false;
 }
 
 // per-pixel noise streams
@@ -285,13 +194,21 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
     for (const auto& o : gt.objects_truth)
       for (const auto& p : o.parts) max_label = std::max(max_label, p.label);
     std::vector<std::size_t> part_count(max_label + 1, 0), obj_count(gt.objects_truth.size() + 1, 0);
+    const double inf = std::numeric_limits<double>::infinity();
+    std::vector<Vec3> lo(gt.objects_truth.size() + 1, Vec3::Constant(inf)), hi(lo.size(), Vec3::Constant(-inf));
     for (std::size_t i = 0; i < gt.parts.pixels(); ++i) {
       ++part_count[gt.parts.data()[i]];
-      ++obj_count[gt.objects.data()[i]];
+      const std::uint32_t id = gt.objects.data()[i];
+      ++obj_count[id];
+      if (id == 0) continue;
+      const Vec3 P = ray_t[i] * ray_dir(int(i % std::size_t(W)), int(i / std::size_t(W)));
+      lo[id] = lo[id].cwiseMin(P);
+      hi[id] = hi[id].cwiseMax(P);
     }
     for (auto& o : gt.objects_truth) {
       o.visible_pixels = obj_count[o.id];
       for (auto& p : o.parts) p.visible_pixels = part_count[p.label];
+      if (o.visible_pixels > 0) o.visible_min = lo[o.id], o.visible_max = hi[o.id];
     }
   }
 
@@ -325,7 +242,7 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
             c[ch] = std::uint8_t(std::clamp(std::lround(val), 0l, 255l));
           }
         }
-        if (!options.noise) continue;
+        if (!options.noise || options.depth_model != DepthModel::Kinect) continue;
         const float z0 = clean(v, u);
         if (std::isnan(z0)) continue;
         // (3) oblique surfaces: missing with probability rising from 70 to 85 degrees
@@ -374,6 +291,10 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
       }
     }
   });
+  if (options.noise && options.depth_model == DepthModel::Stereo) {
+    const detail::RenderedRays rays{rs, K, clean, shade, ray_t, hit_obj, seed, frame_index};
+    detail::stereo_depth(rays, options.stereo, f.depth);
+  }
   return out;
 }
 

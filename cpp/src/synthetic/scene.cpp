@@ -9,6 +9,11 @@
 //    body axis and its arc is the part of the ring's centre circle outside the body's outer
 //    radius; the renderer also hides every point of the tube inside the body cylinder.
 //    A distractor's arc is [0, pi]: the upper half ring standing on the table.
+//  - a varied handle ("loop", "band") lies in the same plane as the torus it replaces and spans
+//    the same reach from the wall and about its height; its rounded rectangle reaches 3 mm
+//    into the wall, where the renderer hides it.
+// Objects stand on the table top, except lying cans and jars (their axis horizontal, resting on
+// their side) and the free-form distractors (resting on their lowest point).
 #include "mereo/synthetic/scene.hpp"
 
 #include <algorithm>
@@ -16,6 +21,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "mereo/core/error.hpp"
@@ -230,8 +236,43 @@ Model random_model(Rng& rng) {
   return Model::Box;
 }
 
-/// Adds one object of `model` on the table; false if no place was found.
-bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_mug) {
+Vec3 horizontal(double angle) { return Vec3(std::cos(angle), std::sin(angle), 0.0); }
+
+/// A mug's handle other than a torus arc (handle_shapes "varied"): D-shaped ("d": large corners),
+/// "squared" (corners just wider than the tube) or a flat "band", in the plane of the torus it
+/// replaces (the body's axis and the direction u away from it), as far out from the wall as
+/// that torus (`reach`, its centre line) and about as high (`span`, at most `max_span`), with
+/// the tube radius `minor`. Its own sizes are drawn from `hr`, not from the scene's stream.
+Shape varied_handle(const std::string& kind, Rng& hr, const Vec3& axis_point, double R, const Vec3& u,
+                    double reach, double span, double max_span, double minor) {
+  span = std::min(max_span, span * hr.uniform(0.95, 1.25));
+  constexpr double kInset = 0.003;  // into the wall: no gap where a wide band meets the curved wall
+  Shape s;
+  s.cls = kind == "band" ? "band" : "loop";
+  const double limit = std::min(reach, 0.5 * span);
+  if (kind == "d") {
+    s.minor_radius = minor;
+    s.radius = std::clamp(hr.uniform(0.35, 0.6) * limit, 1.2 * minor, limit);
+  } else if (kind == "squared") {
+    s.minor_radius = minor;
+    s.radius = std::min(minor * hr.uniform(1.1, 1.35), limit);
+  } else {  // a band 2.4-4 mm thick, 12-20 mm wide
+    s.minor_radius = hr.uniform(0.0012, 0.002);
+    s.height = hr.uniform(0.012, 0.02);
+    s.radius = std::clamp(hr.uniform(0.45, 0.9) * limit, 1.5 * s.minor_radius, limit);
+  }
+  const double x_in = R - s.radius - kInset, x_out = R + reach;  // from the body's axis
+  s.point = axis_point + 0.5 * (x_in + x_out) * u;
+  s.axis = u.cross(Vec3::UnitZ()).normalized();
+  s.axis2 = u;
+  s.size = Vec3(x_out - x_in, span, 0.0);
+  return s;
+}
+
+/// Adds one object of `model` on the table; false if no place was found. `handle_rng`: draw
+/// varied handles for mugs from it (handle_shapes "varied"); null: torus arcs.
+bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_mug,
+                Rng* handle_rng = nullptr) {
   SceneObject obj;
   obj.color = random_color(rng);
   const int index = int(scene.objects.size());
@@ -274,7 +315,19 @@ bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_
       const double half = std::acos(std::clamp(-k, -1.0, 1.0));
       t.arc_start = -half;
       t.arc_end = half;
-      obj.parts.emplace_back("handle", t);
+      std::string kind = "torus";
+      if (handle_rng != nullptr) {
+        const double pick = handle_rng->uniform();
+        kind = pick < 0.25 ? "torus" : pick < 0.5 ? "d" : pick < 0.75 ? "squared" : "band";
+        obj.kind = kind;
+      }
+      if (kind == "torus") {
+        obj.parts.emplace_back("handle", t);
+      } else {
+        const double max_span = 2 * std::min(h - 0.003 - minor - zc, zc - 0.003 - minor);
+        obj.parts.emplace_back("handle", varied_handle(kind, *handle_rng, Vec3(x, y, zc), R, u, (k + 1) * a,
+                                                       2 * a, max_span, minor));
+      }
       placer.taken.push_back({x, y, fr, index});
       if (first_mug) placer.keep_visible.push_back({x, y, fr, h});
       break;
@@ -300,6 +353,7 @@ bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_
       const double h = jar ? rng.uniform(0.08, 0.16) : rng.uniform(0.10, 0.12);
       if (!placer.place(rng, R, h, x, y)) return false;
       obj.model = jar ? "jar" : "can";
+      obj.pose = "upright";
       obj.parts.emplace_back("body", cylinder(x, y, 0.0, h, R));
       obj.parts.emplace_back("lid", disc(x, y, h, R));
       obj.parts.emplace_back("base", disc(x, y, 0.0, R, 0.0, true));
@@ -414,6 +468,225 @@ bool add_distractor(Scene& scene, Placer& placer, Rng& rng, int jar_index, bool 
   return false;
 }
 
+/// A can or a jar lying on its side: its axis horizontal, resting on the table.
+bool add_lying_container(Scene& scene, Placer& placer, Rng& rng) {
+  const bool jar = rng.chance(0.5);
+  const double R = jar ? rng.uniform(0.035, 0.06) : rng.uniform(0.032, 0.035);
+  const double h = jar ? rng.uniform(0.08, 0.16) : rng.uniform(0.10, 0.12);
+  const Vec3 a = horizontal(rng.uniform(0.0, kPi));
+  const double fr = std::hypot(0.5 * h, R);
+  double x = 0, y = 0;
+  if (!placer.place(rng, fr, 2 * R, x, y)) return false;
+  SceneObject obj;
+  obj.model = jar ? "jar" : "can";
+  obj.pose = "lying";
+  obj.color = random_color(rng);
+  Shape body;
+  body.cls = "cylinder";
+  body.point = Vec3(x, y, R);
+  body.axis = a;
+  body.radius = R;
+  body.height = h;
+  obj.parts.emplace_back("body", body);
+  Shape lid = disc(0, 0, 0, R), base = disc(0, 0, 0, R);
+  lid.point = body.point + 0.5 * h * a, lid.axis = a;
+  base.point = body.point - 0.5 * h * a, base.axis = -a;
+  obj.parts.emplace_back("lid", lid);
+  obj.parts.emplace_back("base", base);
+  placer.taken.push_back({x, y, fr, int(scene.objects.size())});
+  scene.objects.push_back(std::move(obj));
+  return true;
+}
+
+/// A rotation: yaw about z, then pitch about y, then roll about x (each of the local frame).
+Eigen::Matrix3d rotation(double yaw, double pitch, double roll) {
+  return (Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
+          Eigen::AngleAxisd(roll, Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+Shape oriented(const std::string& cls, const Vec3& centre, const Eigen::Matrix3d& R, const Vec3& size) {
+  Shape s;
+  s.cls = cls;
+  s.point = centre;
+  s.axis = R.col(2);
+  s.axis2 = R.col(0);
+  s.size = size;
+  return s;
+}
+
+/// The lowest point's height of an ellipsoid or a box (full extents `size` along R's columns).
+double lowest(const Vec3& centre, const Eigen::Matrix3d& R, const Vec3& size, bool ellipsoid) {
+  double reach = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double h = 0.5 * size[i] * R(2, i);
+    reach += ellipsoid ? h * h : std::abs(h);
+  }
+  return centre.z() - (ellipsoid ? std::sqrt(reach) : reach);
+}
+
+/// Builds a free-form distractor of `kind` about the origin (resting on z = 0), its footprint
+/// radius about the origin in `footprint`.
+SceneObject freeform(int kind, Rng& rng, double& footprint) {
+  SceneObject obj;
+  obj.model = "other";
+  obj.color = random_color(rng);
+  footprint = 0;
+  switch (kind) {
+    case 0: {  // a blob: a main ellipsoid and one to three lobes that overlap it
+      obj.kind = "blob";
+      const Vec3 main(rng.uniform(0.06, 0.12), rng.uniform(0.05, 0.1), rng.uniform(0.04, 0.08));
+      std::vector<std::pair<Vec3, Eigen::Matrix3d>> pose = {{Vec3::Zero(), rotation(rng.uniform(0.0, kPi), 0, 0)}};
+      std::vector<Vec3> sizes = {main};
+      const int lobes = rng.integer(1, 3);
+      for (int i = 0; i < lobes; ++i) {
+        const Vec3 size = main.cwiseProduct(Vec3(rng.uniform(0.5, 0.9), rng.uniform(0.5, 0.9), rng.uniform(0.5, 0.9)));
+        const double az = rng.uniform(0.0, 2 * kPi), el = rng.uniform(-0.3, 0.8);
+        const Vec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+        pose.emplace_back(0.35 * main.cwiseProduct(dir),
+                          rotation(rng.uniform(0.0, 2 * kPi), rng.uniform(-0.7, 0.7), rng.uniform(-0.7, 0.7)));
+        sizes.push_back(size);
+      }
+      double bottom = 1e9;
+      for (std::size_t i = 0; i < sizes.size(); ++i) bottom = std::min(bottom, lowest(pose[i].first, pose[i].second, sizes[i], true));
+      for (std::size_t i = 0; i < sizes.size(); ++i) {
+        const Vec3 c = pose[i].first - bottom * Vec3::UnitZ();
+        obj.parts.emplace_back("lobe" + std::to_string(i + 1), oriented("ellipsoid", c, pose[i].second, sizes[i]));
+        footprint = std::max(footprint, c.head<2>().norm() + 0.5 * sizes[i].maxCoeff());
+      }
+      break;
+    }
+    case 1: {  // a banana: a bent tube (a torus arc) lying on its side, round tips, a stem
+      obj.kind = "banana";
+      obj.color = Eigen::Vector3f(float(rng.uniform(0.85, 0.95)), float(rng.uniform(0.7, 0.85)),
+                                  float(rng.uniform(0.1, 0.3)));
+      const double A = rng.uniform(0.07, 0.11), r = rng.uniform(0.016, 0.022);
+      const double half = 0.5 * rng.uniform(60.0, 100.0) * kPi / 180.0;
+      const double phi = rng.uniform(0.0, 2 * kPi);
+      // the ring's centre, so that the middle of the footprint (between the arc's middle and
+      // its chord) is at the origin
+      const Vec3 c = -0.5 * A * (1 + std::cos(half)) * horizontal(phi) + r * Vec3::UnitZ();
+      Shape tube;
+      tube.cls = "torus";
+      tube.point = c;
+      tube.axis = Vec3::UnitZ();
+      tube.axis2 = horizontal(phi);
+      tube.radius = A;
+      tube.minor_radius = r;
+      tube.arc_start = -half;
+      tube.arc_end = half;
+      obj.parts.emplace_back("tube", tube);
+      Shape tip;
+      tip.cls = "sphere";
+      tip.radius = r;
+      tip.height_min = -r;
+      tip.height_max = r;
+      for (const double side : {-1.0, 1.0}) {
+        tip.point = c + A * horizontal(phi + side * half);
+        obj.parts.emplace_back(side < 0 ? "tip1" : "tip2", tip);
+      }
+      // the stem: a thin cylinder from the second tip along the tube's tangent, a little up
+      const double len = rng.uniform(0.02, 0.03), rs = 0.35 * r;
+      const Vec3 dir = (horizontal(phi + half + 0.5 * kPi) + 0.35 * Vec3::UnitZ()).normalized();
+      Shape stem;
+      stem.cls = "cylinder";
+      stem.axis = dir;
+      stem.radius = rs;
+      stem.height = len + 0.5 * r;
+      stem.point = c + A * horizontal(phi + half) + 0.5 * (len + 0.5 * r) * dir;
+      obj.parts.emplace_back("stem", stem);
+      Shape end = disc(0, 0, 0, rs);
+      end.point = stem.point + 0.5 * stem.height * dir;
+      end.axis = dir;
+      obj.parts.emplace_back("stem_end", end);
+      footprint = std::max(0.5 * A * (1 - std::cos(half)), A * std::sin(half)) + r + len;
+      break;
+    }
+    case 2: {  // a drill: battery on the table, a grip leaning back, housing, chuck and bit
+      obj.kind = "drill";
+      if (rng.chance(0.6)) {  // black or dark grey plastic
+        const float g = float(rng.uniform(0.06, 0.16));
+        obj.color = Eigen::Vector3f(g, g, g * 1.05f);
+      }
+      const double yaw = rng.uniform(0.0, 2 * kPi);
+      const Vec3 f = horizontal(yaw), z = Vec3::UnitZ();
+      const Eigen::Matrix3d upright = rotation(yaw, 0, 0);
+      const Vec3 battery(rng.uniform(0.09, 0.11), rng.uniform(0.07, 0.08), rng.uniform(0.05, 0.06));
+      const Vec3 grip(rng.uniform(0.04, 0.05), rng.uniform(0.03, 0.035), rng.uniform(0.11, 0.13));
+      const Vec3 housing(rng.uniform(0.13, 0.17), rng.uniform(0.06, 0.07), rng.uniform(0.065, 0.08));
+      const double tilt = rng.uniform(10.0, 20.0) * kPi / 180.0;
+      const double chuck_r = rng.uniform(0.014, 0.019), chuck_len = rng.uniform(0.03, 0.04);
+      const double bit_r = rng.uniform(0.003, 0.005), bit_len = rng.uniform(0.03, 0.05);
+      const double back = -0.25 * battery.x();  // along f: where the grip stands on the battery
+      obj.parts.emplace_back("battery", oriented("box", Vec3(0, 0, 0.5 * battery.z()), upright, battery));
+      // the grip's axis leans back (its top behind its foot); 1 cm into battery and housing
+      const Vec3 g = std::cos(tilt) * z - std::sin(tilt) * f;
+      const Vec3 foot = back * f + battery.z() * z;
+      const Eigen::Matrix3d grip_frame = rotation(yaw, -tilt, 0);  // local z = g, local x = f turned up
+      obj.parts.emplace_back("grip", oriented("box", foot + 0.5 * grip.z() * g, grip_frame,
+                                              Vec3(grip.x(), grip.y(), grip.z() + 0.02)));
+      const Vec3 top = foot + grip.z() * g;
+      const Vec3 hc = top + (0.5 * housing.x() - 0.035) * f + (0.5 * housing.z() - 0.01) * z;
+      obj.parts.emplace_back("housing", oriented("box", hc, upright, housing));
+      Shape chuck;
+      chuck.cls = "cylinder";
+      chuck.axis = f;
+      chuck.radius = chuck_r;
+      chuck.height = chuck_len;
+      chuck.point = hc + (0.5 * housing.x() + 0.5 * chuck_len) * f;
+      obj.parts.emplace_back("chuck", chuck);
+      Shape front = disc(0, 0, 0, chuck_r);
+      front.point = chuck.point + 0.5 * chuck_len * f;
+      front.axis = f;
+      obj.parts.emplace_back("chuck_front", front);
+      Shape bit = chuck;
+      bit.radius = bit_r;
+      bit.height = bit_len;
+      bit.point = front.point + 0.5 * bit_len * f;
+      obj.parts.emplace_back("bit", bit);
+      Shape bit_end = disc(0, 0, 0, bit_r);
+      bit_end.point = bit.point + 0.5 * bit_len * f;
+      bit_end.axis = f;
+      obj.parts.emplace_back("bit_end", bit_end);
+      // centre the footprint along f between the battery's back and the bit's end
+      const double rear = std::min(-0.5 * battery.x(), (hc - 0.5 * housing.x() * f).dot(f));
+      const double ahead = bit_end.point.dot(f);
+      const Vec3 shift = -0.5 * (rear + ahead) * f;
+      for (auto& [role, sh] : obj.parts) sh.point += shift;
+      footprint = std::hypot(0.5 * (ahead - rear), 0.5 * std::max(battery.y(), housing.y()));
+      break;
+    }
+    default: {  // a rounded box (a soap, a phone, a case)
+      obj.kind = "rounded_box";
+      const Vec3 size(rng.uniform(0.06, 0.16), rng.uniform(0.05, 0.12), rng.uniform(0.03, 0.1));
+      Shape b = oriented("rounded_box", Vec3(0, 0, 0.5 * size.z()), rotation(rng.uniform(0.0, kPi), 0, 0), size);
+      b.radius = rng.uniform(0.15, 0.4) * size.minCoeff();
+      obj.parts.emplace_back("box", b);
+      footprint = 0.5 * std::hypot(size.x(), size.y());
+      break;
+    }
+  }
+  return obj;
+}
+
+/// Adds a free-form distractor of `kind` (0 blob, 1 banana, 2 drill, 3 rounded box): a few
+/// tries with new sizes when the table is crowded.
+bool add_freeform(Scene& scene, Placer& placer, Rng& rng, int kind) {
+  for (int tries = 0; tries < 3; ++tries) {
+    double fr = 0;
+    SceneObject obj = freeform(kind, rng, fr);
+    double top = 0;
+    for (const auto& [role, sh] : obj.parts) top = std::max(top, sh.point.z() + 0.5 * sh.size.maxCoeff() + sh.radius);
+    double x = 0, y = 0;
+    if (!placer.place(rng, fr, top, x, y)) continue;
+    for (auto& [role, sh] : obj.parts) sh.point += Vec3(x, y, 0.0);
+    placer.taken.push_back({x, y, fr, int(scene.objects.size())});
+    scene.objects.push_back(std::move(obj));
+    return true;
+  }
+  return false;
+}
+
 void check_options(const SceneOptions& o) {
   if (o.width <= 0 || o.height <= 0)
     throw InputError("synthetic: image size must be positive (width " + std::to_string(o.width) +
@@ -427,6 +700,11 @@ void check_options(const SceneOptions& o) {
   if (o.min_elevation_deg < 0 || o.max_elevation_deg > 89.0 ||
       o.max_elevation_deg < o.min_elevation_deg)
     throw InputError("synthetic: need 0 <= min_elevation_deg <= max_elevation_deg <= 89");
+  const StereoModel& s = o.stereo;
+  if (!(s.baseline > 0) || !(s.noise_patch >= 1) || !(s.subpixel >= 1) || s.patch_noise_px < 0 ||
+      s.pixel_noise_px < 0 || s.fattening_px < 0 || s.thin_px < 0 || !(s.max_range > s.min_range))
+    throw InputError("synthetic: stereo model: need baseline > 0, noise_patch >= 1, subpixel >= 1, "
+                     "noise, fattening and thin widths >= 0, max_range > min_range");
 }
 
 }  // namespace
@@ -502,6 +780,9 @@ Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
 
   const int n = rng.integer(options.min_objects, options.max_objects);
   bool have_mug = false;
+  // varied handles draw from a stream of their own: the scene is otherwise the same
+  Rng handle_rng(seed ^ 0x4A1D1E5ull);
+  Rng* handles = options.handle_shapes == HandleShapes::Varied ? &handle_rng : nullptr;
   for (int i = 0; i < n; ++i) {
     Model m;
     if (i == 0) {
@@ -516,13 +797,13 @@ Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
     bool ok = false;
     for (int tries = 0; tries < 3 && !ok; ++tries)
       ok = add_object(scene, placer, rng, tries < 2 ? m : Model::Can,
-                      m == Model::Mug && !have_mug && tries < 2);
+                      m == Model::Mug && !have_mug && tries < 2, handles);
     if (ok && scene.objects.back().model == "mug") have_mug = true;
   }
 
   if (options.tapered_cups) {
     const int cups = rng.integer(1, 2);
-    for (int i = 0; i < cups; ++i) add_object(scene, placer, rng, Model::TaperedCup, false);
+    for (int i = 0; i < cups; ++i) add_object(scene, placer, rng, Model::TaperedCup, false, handles);
   }
 
   if (options.distractors || options.ambiguous_distractors) {
@@ -533,6 +814,16 @@ Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
       if (first || rng.chance(0.5)) add_distractor(scene, placer, rng, int(i), options.ambiguous_distractors);
       first = false;
     }
+  }
+
+  // the options that add objects after all others (the scene before them stays as it was)
+  if (options.lying_containers) {
+    const int count = rng.integer(1, 2);
+    for (int i = 0; i < count; ++i) add_lying_container(scene, placer, rng);
+  }
+  if (options.freeform_distractors) {
+    const int count = rng.integer(1, 3), first = rng.integer(0, 3);
+    for (int i = 0; i < count; ++i) add_freeform(scene, placer, rng, (first + i) % 4);
   }
   return scene;
 }
@@ -555,9 +846,15 @@ nlohmann::json shape_json(const Shape& s) {
          {"inner_radius", s.minor_radius}};
   } else if (s.cls == "sphere") {
     j["axis"] = vec_json(s.axis), j["height_min"] = s.height_min, j["height_max"] = s.height_max;
-  } else if (s.cls == "box") {
+  } else if (s.cls == "box" || s.cls == "ellipsoid" || s.cls == "rounded_box") {
     j = {{"center", vec_json(s.point)}, {"axis", vec_json(s.axis)},
          {"axis2", vec_json(s.axis2)}, {"size", vec_json(s.size)}};
+    if (s.cls == "rounded_box") j["radius"] = s.radius;
+  } else if (s.cls == "loop" || s.cls == "band") {
+    j = {{"center", vec_json(s.point)}, {"normal", vec_json(s.axis)}, {"axis2", vec_json(s.axis2)},
+         {"size", {s.size.x(), s.size.y()}}, {"corner_radius", s.radius}};
+    if (s.cls == "loop") j["minor_radius"] = s.minor_radius;
+    else j["thickness"] = 2 * s.minor_radius, j["width"] = s.height;
   }
   return j;
 }
@@ -579,6 +876,9 @@ std::string truth_to_json(const SyntheticFrame& f) {
   json objects = json::array();
   for (const auto& o : f.truth.objects_truth) {
     json jo = {{"id", o.id}, {"model", o.model}, {"visible_pixels", o.visible_pixels}};
+    if (!o.pose.empty()) jo["pose"] = o.pose;
+    if (!o.kind.empty()) jo["kind"] = o.kind;
+    if (o.visible_pixels > 0) jo["visible_box"] = {{"min", vec_json(o.visible_min)}, {"max", vec_json(o.visible_max)}};
     json parts = json::array();
     for (const auto& p : o.parts) {
       parts.push_back({{"role", p.role},

@@ -40,13 +40,13 @@ def hstack(images: collections.abc.Sequence[typing.Any], gap: typing.SupportsInt
     """
     RGB images side by side.
     """
-def open(inputs: typing.Any, *, intrinsics: typing.Any = None, depth_scale: typing.SupportsFloat = 0.0, frames: typing.SupportsInt = 1, noise: bool = True, distractors: typing.Any = False, depth_format: str = 'units') -> typing.Sequence:
+def open(inputs: typing.Any, *, intrinsics: typing.Any = None, depth_scale: typing.SupportsFloat = 0.0, frames: typing.SupportsInt = 1, noise: typing.Any = None, distractors: typing.Any = None, scene: typing.Any = None, depth_format: str = 'units') -> typing.Sequence:
     """
-    Opens files, folders or 'synthetic:SEED' as a Sequence. intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre (0 = the format's default); depth_format: 'units', or 'sun3d' / 'nyu-raw' for those datasets' 16-bit depth (the files do not say); frames, noise, distractors: for synthetic:SEED (distractors: False, True or 'beside' for handle-like tori beside some jars, 'leaning' for rings leaning on jars).
+    Opens files, folders or 'synthetic:SEED' as a Sequence. intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre (0 = the format's default); depth_format: 'units', or 'sun3d' / 'nyu-raw' for those datasets' 16-bit depth (the files do not say); frames, scene, noise, distractors: for synthetic:SEED (scene: a mereo.synthetic.SceneOptions; noise and distractors, when given, override its: distractors False, True or 'beside' for handle-like tori beside some jars, 'leaning' for rings leaning on jars).
     """
-def read(input: typing.Any, *, intrinsics: typing.Any = None, depth_scale: typing.SupportsFloat = 0.0, noise: bool = True, distractors: typing.Any = False, depth_format: str = 'units') -> mereo._mereo.Frame:
+def read(input: typing.Any, *, intrinsics: typing.Any = None, depth_scale: typing.SupportsFloat = 0.0, noise: typing.Any = None, distractors: typing.Any = None, scene: typing.Any = None, depth_format: str = 'units') -> mereo._mereo.Frame:
     """
-    The first frame of a .pcd file, a PNG pair, a folder, a TUM folder or 'synthetic:SEED'. intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre (0 = the format's default); depth_format: 'units', or 'sun3d' / 'nyu-raw' for those datasets' 16-bit depth (the files do not say); frames, noise, distractors: for synthetic:SEED (distractors: False, True or 'beside' for handle-like tori beside some jars, 'leaning' for rings leaning on jars).
+    The first frame of a .pcd file, a PNG pair, a folder, a TUM folder or 'synthetic:SEED'. intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre (0 = the format's default); depth_format: 'units', or 'sun3d' / 'nyu-raw' for those datasets' 16-bit depth (the files do not say); frames, scene, noise, distractors: for synthetic:SEED (scene: a mereo.synthetic.SceneOptions; noise and distractors, when given, override its: distractors False, True or 'beside' for handle-like tori beside some jars, 'leaning' for rings leaning on jars).
     """
 def read_intrinsics(text_or_path: str) -> mereo._mereo.Intrinsics:
     ...

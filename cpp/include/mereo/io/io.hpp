@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mereo/core/frame.hpp"
+#include "mereo/synthetic/scene.hpp"
 
 namespace mereo::io {
 
@@ -31,11 +32,10 @@ struct ReadOptions {
   /// (intrinsics.json's "depth_scale" or 1000 for PNG pairs, 5000 for TUM folders).
   double depth_scale = 0.0;
   DepthFormat depth_format = DepthFormat::Units;  ///< 16-bit depth images: see DepthFormat
-  /// "synthetic:SEED": number of frames (the camera orbits the table), and noise on/off.
+  /// "synthetic:SEED": number of frames (the camera orbits the table), and the scene's options
+  /// (noise and depth model, distractors, ...; its intrinsics give way to `intrinsics` when set).
   int synthetic_frames = 1;
-  bool synthetic_noise = true;
-  bool synthetic_distractors = false;          ///< handle-like tori beside some jars
-  bool synthetic_leaning_distractors = false;  ///< rings leaning on jars: a handle from some views
+  synthetic::SceneOptions synthetic;
 };
 
 /// A sequence of frames loaded lazily, in order: each entry knows its id, the file (or

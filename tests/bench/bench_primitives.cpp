@@ -213,13 +213,15 @@ int main(int argc, char** argv) {
         }
         m.mosd_rows.push_back(row);
       } else if (std::isfinite(mug_reference)) {
-        // the cylinder of the right size closest to the reference's radius
-        double best = NAN;
+        // the body: the largest cylinder of about the reference's size (the closest one could be
+        // a piece of the handle taken for a small cylinder, as it was before the handle search
+        // took such pieces)
+        const Segment* body = nullptr;
         for (const Segment& s : found)
-          if (s.is<shapes::Cylinder>() && std::abs(s.size() - mug_reference) < 0.02 &&
-              !(std::abs(s.size() - mug_reference) >= best))
-            best = std::abs(s.size() - mug_reference);
-        m.mug_radius_err_mm = 1000 * best;
+          if (s.is<shapes::Cylinder>() && !s.inward && std::abs(s.size() - mug_reference) < 0.02 &&
+              (!body || s.pixels.size() > body->pixels.size()))
+            body = &s;
+        m.mug_radius_err_mm = body ? 1000 * std::abs(body->size() - mug_reference) : NAN;
       }
     }
   }

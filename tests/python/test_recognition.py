@@ -319,3 +319,21 @@ def test_a_list_of_files_is_one_sequence_with_sequence(tmp_path):
     assert cli.main(["recognize", *files, "--out", str(out)]) == 0
     alone = [json.loads(s) for s in out.read_text().splitlines()]
     assert all("track" not in o for r in alone for o in r["objects"])
+
+
+def test_lying_cans_and_jars_are_recognized_lying():
+    """Containers lying on their side (the renderer's lying_containers): the closed ones (can,
+    jar) may rest upright or lying (rest_tilt_deg), and the result says which (pose)."""
+    from mereo import evaluate as ev
+
+    so = mereo.synthetic.SceneOptions()
+    so.lying_containers = True
+    seeds = [f"synthetic:{s}" for s in range(3100, 3108)]
+    results = mereo.recognize_all([mereo.io.read(s, scene=so) for s in seeds])
+    e = ev.evaluate(results, ev.load_truths(seeds, options=so))
+    lying = {k: (v.found, v.eligible) for k, v in e.kinds.items() if k.endswith("/lying")}
+    found = sum(f for f, _ in lying.values())
+    total = sum(n for _, n in lying.values())
+    assert total >= 8 and found >= 0.8 * total, lying
+    poses = [o.get("pose") for r in results for o in r["objects"] if o["accepted"] and o["model"] in ("can", "jar")]
+    assert "lying" in poses and "upright" in poses

@@ -143,7 +143,8 @@ const std::vector<std::string>& attribute_names() {
   // the classes' own (mereo/shapes/*.hpp: radius, height, minor_radius...), then every segment's
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
-    for (const char* g : {"tilt_deg", "elevation", "inliers", "residual", "hue", "inward"}) n.push_back(g);
+    for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "inliers", "residual", "hue", "inward"})
+      n.push_back(g);
     return n;
   }();
   return names;
@@ -157,11 +158,12 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
   // the class's own (mereo/shapes/*.cpp: radius, height, minor_radius, aspect, d...), then those
   // of every segment; an attribute the class lacks is NaN (a membership of 0)
   if (const auto v = s.attribute(name)) return *v;
-  if (name == "tilt_deg") {
+  if (name == "tilt_deg" || name == "rest_tilt_deg") {
     const auto axis = s.direction();
     if (!axis) return NAN;
     const double c = std::abs(axis->normalized().dot(ctx.up.normalized()));
-    return std::acos(std::min(1.0, c)) / kDeg;
+    const double tilt = std::acos(std::min(1.0, c)) / kDeg;
+    return name == "tilt_deg" ? tilt : std::min(tilt, 90.0 - tilt);  // upright or lying
   }
   if (name == "elevation") return ctx.up.normalized().dot(s.origin());
   if (name == "inliers") return double(s.inliers);

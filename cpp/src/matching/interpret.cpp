@@ -120,6 +120,9 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
       obj["parts"][role] = std::move(part);
     }
     obj["excludes"] = o.excludes;
+    for (const auto& [role, k] : o.parts)  // upright or lying, by the body's axis and the table
+      if (const auto axis = segments.at(std::size_t(k)).direction(); role == "body" && axis && plane)
+        obj["pose"] = std::abs(axis->normalized().dot(plane->normal)) > std::cos(M_PI / 4) ? "upright" : "lying";
     if (o.coverage >= 0) obj["coverage"] = o.coverage;
     if (!o.rejected.empty()) obj["rejected"] = o.rejected;
     if (o.region) {

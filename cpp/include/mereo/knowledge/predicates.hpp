@@ -43,7 +43,9 @@ const std::vector<std::string>& predicate_params(const std::string& name);
 
 /// Attribute names: those of the shape table's classes (a cylinder's radius, height and aspect =
 /// height / diameter, a torus's minor_radius, a plane's d...: mereo/shapes/*.hpp; NaN for a class
-/// that lacks one), then tilt_deg (angle between the axis and `up`), elevation (centre height
+/// that lacks one), then tilt_deg (angle between the axis and `up`), rest_tilt_deg (the angle to
+/// the nearer of the two rest poses of a body on a table, upright and lying: min(tilt, 90 - tilt)),
+/// elevation (centre height
 /// along up, metres), inliers, residual, hue (degrees), inward (1 for a surface seen from
 /// inside: a mug's inner wall).
 const std::vector<std::string>& attribute_names();

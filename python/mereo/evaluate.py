@@ -204,7 +204,7 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
             s.results += 1
             body = o["parts"].get("body")
             t = None
-            if body is not None and body["class"] in ("cylinder", "sphere"):
+            if body is not None and body["class"] in ("cylinder", "cone", "sphere"):
                 t, d = _match(body, objects, max_offset, max_radius_error)
             if t is None:
                 other = _on_other(o, others, max_offset)
@@ -223,12 +223,12 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
             cam = _body(t["parts"], body["class"])["camera"]
             s.position_mm.append(1000 * d)
             s.radius_mm.append(1000 * abs(body["radius"] - cam["radius"]))
-            if body["class"] == "cylinder":
+            if body["class"] in ("cylinder", "cone"):
                 a = np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
                 cosang = abs(float(np.dot(a, np.asarray(body["axis"]) / np.linalg.norm(body["axis"]))))
                 s.axis_deg.append(math.degrees(math.acos(min(1.0, cosang))))
         for t in objects:
-            b = _body(t["parts"]) or _body(t["parts"], "sphere")
+            b = _body(t["parts"]) or _body(t["parts"], "cone") or _body(t["parts"], "sphere")
             if b is None or b["visible_pixels"] < MIN_BODY_PIXELS:
                 continue
             if t["model"] == "mug":

@@ -350,7 +350,7 @@ TEST(Features, TaperedCupsAreConesWithTheirRadiiAndAxis) {
             break;
           }
       }
-      if (obj.model != "cup") continue;
+      if (obj.model != "tapered_cup") continue;
       ++cups;
       const synthetic::Shape& t = body->camera;
       const Segment* best = nullptr;

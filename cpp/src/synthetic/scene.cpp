@@ -337,7 +337,7 @@ bool add_object(Scene& scene, Placer& placer, Rng& rng, Model model, bool first_
       const double r1 = r0 + h * std::tan(rng.uniform(4.0, 10.0) * kPi / 180.0);
       const double wall = rng.uniform(0.003, 0.004), tb = rng.uniform(0.006, 0.01);
       if (!placer.place(rng, r1, h, x, y)) return false;
-      obj.model = "cup";
+      obj.model = "tapered_cup";  // the concept of graphs/models/tabletop.yaml
       obj.parts.emplace_back("body", cone(x, y, 0.0, h, r0, r1));
       const double inner0 = r0 + (r1 - r0) * tb / h - wall;
       obj.parts.emplace_back("inside", cone(x, y, tb, h, inner0, r1 - wall, true));

@@ -32,7 +32,7 @@ NV_EXPECTED = {"red_mug": "mug", "white_mug": "bowl", "white_bowl": "bowl", "gre
                "cylinder": "can"}
 # label classes a reported model may lie on: the model itself, and for a closed cylinder ("jar: a
 # closed cylindrical jar or tin") a can; "container" is the general model of them all
-COMPATIBLE = {"mug": {"mug"}, "cup": {"cup"}, "can": {"can"}, "jar": {"jar", "can"},
+COMPATIBLE = {"mug": {"mug"}, "cup": {"cup"}, "tapered_cup": {"cup"}, "can": {"can"}, "jar": {"jar", "can"},
               "bottle": {"bottle"}, "bowl": {"bowl"}, "plate": {"plate"}, "pitcher": {"pitcher"},
               "container": {"mug", "cup", "can", "jar", "bottle", "pitcher"}}
 RECALL_CLASSES = {"can", "bowl", "bottle", "mug", "pitcher"}

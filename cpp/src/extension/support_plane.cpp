@@ -31,18 +31,19 @@ struct Sample {
   bool central;
 };
 
-/// Full-resolution inliers of the plane (n, d): its 4-connected regions of at least 1/8 of the
-/// largest one's size.
+/// Inliers of the plane (n, d): its 4-connected regions of at least 1/8 of the largest one's
+/// size, on every `stride`-th pixel of every `stride`-th row (region pixel (v, u) is the cloud's
+/// (stride v, stride u)).
 cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen::Vector3d& n,
-                      double d, double eps, double cos_dev) {
-  const int H = cloud.rows(), W = cloud.cols();
+                      double d, double eps, double cos_dev, int stride = 1) {
+  const int H = (cloud.rows() + stride - 1) / stride, W = (cloud.cols() + stride - 1) / stride;
   cv::Mat mask(H, W, CV_8U, cv::Scalar(0));
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
       std::uint8_t* m = mask.ptr<std::uint8_t>(v);
       for (int u = 0; u < W; ++u) {
-        const float* p = cloud.ptr(v, u);
-        const float* q = normals.ptr(v, u);
+        const float* p = cloud.ptr(stride * v, stride * u);
+        const float* q = normals.ptr(stride * v, stride * u);
         if (!valid3(p) || !std::isfinite(q[0])) continue;
         const double dist = std::abs(n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d);
         if (dist > tolerance(eps, p[2])) continue;
@@ -67,9 +68,10 @@ cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen:
   return region;  // 255 where selected
 }
 
-/// PCA plane of the masked points: returns the RMS distance; n oriented with d > 0.
+/// PCA plane of the masked points (of a region on every `stride`-th pixel): returns the RMS
+/// distance; n oriented with d > 0; count is the region's pixels.
 double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, double& d,
-                 Eigen::Vector3d& centroid, std::size_t& count) {
+                 Eigen::Vector3d& centroid, std::size_t& count, int stride = 1) {
   Eigen::Vector3d s = Eigen::Vector3d::Zero();
   Eigen::Matrix3d ss = Eigen::Matrix3d::Zero();
   count = 0;
@@ -77,7 +79,7 @@ double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, 
     const std::uint8_t* m = region.ptr<std::uint8_t>(v);
     for (int u = 0; u < region.cols; ++u) {
       if (!m[u]) continue;
-      const float* p = cloud.ptr(v, u);
+      const float* p = cloud.ptr(stride * v, stride * u);
       const Eigen::Vector3d x(p[0], p[1], p[2]);
       s += x;
       ss += x * x.transpose();
@@ -94,18 +96,21 @@ double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, 
   return std::sqrt(std::max(0.0, es.eigenvalues()(0)));
 }
 
-/// The support plane with the inlier region `region` of the plane (n, d): its mask, its world
-/// frame and its polygon (roi, rms and inlier_count are the caller's).
+/// The support plane with the inlier region `region` of the plane (n, d): its mask (at full
+/// resolution only), its world frame and its polygon (roi, rms and inlier_count are the
+/// caller's). `stride` as inlier_region's.
 SupportPlane plane_with_polygon(const Cloud& cloud, const cv::Mat& region, const Eigen::Vector3d& n,
-                                double d, const Eigen::Vector3d& centroid) {
-  const int H = cloud.rows(), W = cloud.cols();
+                                double d, const Eigen::Vector3d& centroid, int stride = 1) {
+  const int H = region.rows, W = region.cols;
   SupportPlane out;
   out.normal = n;
   out.d = d;
-  out.inliers = Mask(H, W, 0);
-  for (int v = 0; v < H; ++v) {
-    const std::uint8_t* m = region.ptr<std::uint8_t>(v);
-    for (int u = 0; u < W; ++u) out.inliers(v, u) = m[u] ? 1 : 0;
+  if (stride == 1) {
+    out.inliers = Mask(H, W, 0);
+    for (int v = 0; v < H; ++v) {
+      const std::uint8_t* m = region.ptr<std::uint8_t>(v);
+      for (int u = 0; u < W; ++u) out.inliers(v, u) = m[u] ? 1 : 0;
+    }
   }
 
   // world frame: z = normal, x = camera x projected on the plane, origin = centroid on the plane
@@ -135,7 +140,7 @@ SupportPlane plane_with_polygon(const Cloud& cloud, const cv::Mat& region, const
       }
     if (first < 0) continue;
     for (int u : {first, last}) {
-      const float* p = cloud.ptr(v, u);
+      const float* p = cloud.ptr(stride * v, stride * u);
       const Eigen::Vector3d w = T * Eigen::Vector3d(p[0], p[1], p[2]);
       pts.emplace_back(float(w.x()), float(w.y()));
     }
@@ -276,6 +281,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   struct Candidate {
     Eigen::Vector3d n, centroid;
     double d = 0, weight = 0, area = 0;
+    std::size_t seed = 0;  ///< index of its hypothesis
     cv::Mat region;
     std::size_t count = 0;
   };
@@ -297,11 +303,16 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     double heaviest = 0;
     for (const Candidate& c : candidates) heaviest = std::max(heaviest, c.count ? c.weight : 0.0);
     if (8 * 1.5 * double(support[h] * std::size_t(o.step * o.step)) < o.min_share * heaviest) continue;
+    // weighed on every second pixel of every second row (kStride); the chosen one is then
+    // refitted at full resolution from its seed
+    constexpr int kStride = 2;
     Candidate c;
+    c.seed = h;
     c.n = s.n.cast<double>().normalized();
     c.d = -c.n.dot(s.p.cast<double>());
-    c.region = inlier_region(cloud, normals, c.n, c.d, o.epsilon, cos_dev);
-    fit_plane(cloud, c.region, c.n, c.d, c.centroid, c.count);
+    c.region = inlier_region(cloud, normals, c.n, c.d, o.epsilon, cos_dev, kStride);
+    fit_plane(cloud, c.region, c.n, c.d, c.centroid, c.count, kStride);
+    c.count *= kStride * kStride;
     if (c.count >= 3 && taken(c.centroid)) continue;  // refitted onto a plane already taken
     if (c.count < std::size_t(o.min_inliers) || c.n.dot(up) < cos_tilt) {
       candidates.push_back(std::move(c));  // kept so that its plane is not tried again
@@ -311,16 +322,15 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     // what the camera looks at: the plane's pixels and the points standing on it (at most as
     // many as the plane's: a wall has a room in front of it), those near the centre of the view
     // counted four times
-    const SupportPlane plane = plane_with_polygon(cloud, c.region, c.n, c.d, c.centroid);
+    const SupportPlane plane = plane_with_polygon(cloud, c.region, c.n, c.d, c.centroid, kStride);
     c.area = polygon_area(plane);
-    constexpr int kStride = 2;  // every fourth pixel weighs
     const Mask roi = region_above_strided(cloud, plane, o.min_height, o.max_height, o.margin, kStride);
     double on_plane = 0, above = 0;
     for (int v = 0; v < H; v += kStride) {
-      const std::uint8_t* m = c.region.ptr<std::uint8_t>(v);
+      const std::uint8_t* m = c.region.ptr<std::uint8_t>(v / kStride);
       for (int u = 0; u < W; u += kStride) {
         const double w = central(u, v, W, H) ? 4.0 : 1.0;
-        if (m[u]) on_plane += w;
+        if (m[u / kStride]) on_plane += w;
         else if (roi(v, u)) above += w;
       }
     }
@@ -347,12 +357,16 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     throw InputError("support plane: the plane's region has " + std::to_string(largest) +
                      " points, fewer than min_inliers = " + std::to_string(o.min_inliers));
   }
-  // the chosen plane refitted once more with a tighter tolerance
-  Eigen::Vector3d n = chosen->n, centroid;
-  double d = chosen->d;
+  // the chosen plane refitted at full resolution from its seed, then with a tighter tolerance
+  const Sample& seed = samples[std::size_t(seeds[chosen->seed])];
+  Eigen::Vector3d n = seed.n.cast<double>().normalized(), centroid;
+  double d = -n.dot(seed.p.cast<double>()), rms = 0;
   std::size_t count = 0;
-  const cv::Mat region = inlier_region(cloud, normals, n, d, 0.75 * o.epsilon, cos_dev);
-  const double rms = fit_plane(cloud, region, n, d, centroid, count);
+  cv::Mat region;
+  for (int round = 0; round < 2; ++round) {
+    region = inlier_region(cloud, normals, n, d, round == 0 ? o.epsilon : 0.75 * o.epsilon, cos_dev);
+    rms = fit_plane(cloud, region, n, d, centroid, count);
+  }
   if (count < std::size_t(o.min_inliers))
     throw InputError("support plane: the plane's region has " + std::to_string(count) +
                      " points, fewer than min_inliers = " + std::to_string(o.min_inliers));

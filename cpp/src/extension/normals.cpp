@@ -35,10 +35,6 @@ struct JumpThreshold {
   float operator()(float z) const { return factor * z * std::max(1.f, z * inv_noise_depth); }
 };
 
-inline bool valid_point(const float* p) {
-  return p[2] > 0.f && std::isfinite(p[2]) && std::isfinite(p[0]) && std::isfinite(p[1]);
-}
-
 /// Capped L-infinity distance (in pixels, <= cap) of every pixel to the nearest edge pixel;
 /// outside the image counts as edge. Edge pixels have distance 0. An edge pixel is a point with
 /// a valid 4-neighbour further than factor * z in depth; with `missing_is_edge`, also a missing

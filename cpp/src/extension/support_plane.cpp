@@ -18,10 +18,6 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-inline bool valid3(const float* p) {
-  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && p[2] > 0.f;
-}
-
 /// Inlier tolerance at depth z: epsilon grows with z^2 (Kinect axial noise), never below
 /// its value at 0.7 m.
 inline double tolerance(double epsilon, double z) { return epsilon * std::max(z * z, 0.5); }
@@ -44,7 +40,7 @@ cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen:
       for (int u = 0; u < W; ++u) {
         const float* p = cloud.ptr(stride * v, stride * u);
         const float* q = normals.ptr(stride * v, stride * u);
-        if (!valid3(p) || !std::isfinite(q[0])) continue;
+        if (!valid_point(p) || !std::isfinite(q[0])) continue;
         const double dist = std::abs(n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d);
         if (dist > tolerance(eps, p[2])) continue;
         if (std::abs(n.x() * q[0] + n.y() * q[1] + n.z() * q[2]) < cos_dev) continue;
@@ -152,13 +148,26 @@ SupportPlane plane_with_polygon(const Cloud& cloud, const cv::Mat& region, const
   return out;
 }
 
-/// Area of the plane's polygon, square metres.
-double polygon_area(const SupportPlane& plane) {
-  double a = 0;
-  for (std::size_t i = 0; i < plane.polygon.size(); ++i)
-    a += plane.polygon[i].cross(plane.polygon[(i + 1) % plane.polygon.size()]).dot(plane.normal);
-  return std::abs(a) / 2;
+/// The plane's polygon in its own coordinates (world x, y).
+std::vector<Eigen::Vector2d> polygon_2d(const SupportPlane& plane) {
+  std::vector<Eigen::Vector2d> poly;
+  for (const auto& x : plane.polygon) poly.push_back((plane.world_from_camera * x).head<2>());
+  return poly;
 }
+
+/// Twice the signed area of a polygon (positive: counter-clockwise).
+double signed_area2(const std::vector<Eigen::Vector2d>& poly) {
+  double area2 = 0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const auto& a = poly[i];
+    const auto& b = poly[(i + 1) % poly.size()];
+    area2 += a.x() * b.y() - a.y() * b.x();
+  }
+  return area2;
+}
+
+/// Area of the plane's polygon, square metres.
+double polygon_area(const SupportPlane& plane) { return std::abs(signed_area2(polygon_2d(plane))) / 2; }
 
 /// The middle half of the view in both directions: what the camera looks at.
 inline bool central(int u, int v, int W, int H) {
@@ -173,22 +182,15 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
   if (plane.polygon.size() < 3) return roi;
   // the polygon in plane coordinates (world x, y), counter-clockwise
   const Pose& T = plane.world_from_camera;
-  std::vector<Eigen::Vector2d> poly;
-  for (const auto& x : plane.polygon) poly.push_back((T * x).head<2>());
-  double area2 = 0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const auto& a = poly[i];
-    const auto& b = poly[(i + 1) % poly.size()];
-    area2 += a.x() * b.y() - a.y() * b.x();
-  }
-  if (area2 < 0) std::reverse(poly.begin(), poly.end());
+  std::vector<Eigen::Vector2d> poly = polygon_2d(plane);
+  if (signed_area2(poly) < 0) std::reverse(poly.begin(), poly.end());
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   tbb::parallel_for(tbb::blocked_range<int>(0, (H + stride - 1) / stride, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin() * stride; v < rows.end() * stride; v += stride) {
       for (int u = 0; u < W; u += stride) {
         const float* p = cloud.ptr(v, u);
-        if (!valid3(p)) continue;
+        if (!valid_point(p)) continue;
         const Eigen::Vector3f w = R * Eigen::Vector3f(p[0], p[1], p[2]) + t;
         if (w.z() < min_height * std::max(1.f, p[2] * p[2]) || w.z() > max_height) continue;
         bool inside = true;
@@ -234,7 +236,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     for (int u = o.step / 2; u < W; u += o.step) {
       const float* p = cloud.ptr(v, u);
       const float* n = normals.ptr(v, u);
-      if (!valid3(p) || !std::isfinite(n[0])) continue;
+      if (!valid_point(p) || !std::isfinite(n[0])) continue;
       samples.push_back({Eigen::Vector3f(p[0], p[1], p[2]), Eigen::Vector3f(n[0], n[1], n[2]), central(u, v, W, H)});
     }
   const std::size_t min_grid = std::size_t(o.min_inliers) / std::size_t(o.step * o.step);

@@ -16,10 +16,7 @@ struct Grid {
     const float* q = cloud.ptr(i / W, i % W);
     return {q[0], q[1], q[2]};
   }
-  bool valid(int i) const {
-    const float* q = cloud.ptr(i / W, i % W);
-    return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) && q[2] > 0;
-  }
+  bool valid(int i) const { return valid_point(cloud.ptr(i / W, i % W)); }
 };
 
 /// Pixels reachable from `seeds` over 8-neighbours that pass `enter`, without a depth jump.
@@ -81,15 +78,14 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     // the object's footprint on the table, all the way up from its foot: a primitive fitted to a
     // band of a free-form object leaves the rest of it above unexplained (a ball about the object
     // would reach far over the top of a tin a tall jar stands on; what it stands on is not it)
+    std::vector<Eigen::Vector3d> world;
+    for (int i : pixels[a]) world.push_back(T * g.p(i));
     Eigen::Vector2d c = Eigen::Vector2d::Zero();
     double foot = INFINITY;
-    for (int i : pixels[a]) {
-      const Eigen::Vector3d w = T * g.p(i);
-      c += w.head<2>(), foot = std::min(foot, w.z());
-    }
-    c /= double(pixels[a].size());
+    for (const auto& w : world) c += w.head<2>(), foot = std::min(foot, w.z());
+    c /= double(world.size());
     double radius = 0;
-    for (int i : pixels[a]) radius = std::max(radius, ((T * g.p(i)).head<2>() - c).norm());
+    for (const auto& w : world) radius = std::max(radius, (w.head<2>() - c).norm());
     radius += o.reach, foot -= o.reach;
     const auto region = grow(g, pixels[a], o.depth_jump, mark, stamp++, [&](int j) {
       if (owner[std::size_t(j)] == int(a)) return true;

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "matching/json.hpp"
+#include "mereo/knowledge/predicates.hpp"
 #include "shapes/json.hpp"
 
 namespace mereo::matching {
@@ -120,9 +121,11 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
       obj["parts"][role] = std::move(part);
     }
     obj["excludes"] = o.excludes;
-    for (const auto& [role, k] : o.parts)  // upright or lying, by the body's axis and the table
-      if (const auto axis = segments.at(std::size_t(k)).direction(); role == "body" && axis && plane)
-        obj["pose"] = std::abs(axis->normalized().dot(plane->normal)) > std::cos(M_PI / 4) ? "upright" : "lying";
+    for (const auto& [role, k] : o.parts)  // upright or lying: the body's tilt from the table's normal
+      if (role == "body" && plane) {
+        const double tilt = knowledge::attribute_value(segments.at(std::size_t(k)), "tilt_deg", {plane->normal});
+        if (std::isfinite(tilt)) obj["pose"] = tilt < 45 ? "upright" : "lying";
+      }
     if (o.coverage >= 0) obj["coverage"] = o.coverage;
     if (!o.rejected.empty()) obj["rejected"] = o.rejected;
     if (o.region) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -75,6 +76,10 @@ using ColorImage = Image<std::uint8_t, 3>;
 using DepthImage = Image<float, 1>;
 /// Organized point cloud: XYZ in metres per pixel, camera frame, NaN where missing.
 using Cloud = Image<float, 3>;
+/// A measured point of a Cloud (a pointer to its x, y, z): finite and in front of the camera.
+inline bool valid_point(const float* p) {
+  return p[2] > 0.f && std::isfinite(p[2]) && std::isfinite(p[0]) && std::isfinite(p[1]);
+}
 /// Per-pixel unit normals, camera frame, oriented towards the camera, NaN where undefined.
 using NormalMap = Image<float, 3>;
 /// Integer labels per pixel (object ids, part ids, dataset labels); 0 = none.

@@ -90,6 +90,10 @@ void bind_knowledge(py::module_& m) {
       .def_readwrite("residual", &Segment::residual)
       .def_readwrite("hue", &Segment::hue)
       .def_readwrite("inward", &Segment::inward, "seen from inside (a mug's inner wall)")
+      .def_readwrite("end_closed", &Segment::end_closed,
+                     "pixels whose rays stop on the end facing the camera (a lid; cylinders, cones)")
+      .def_readwrite("end_open", &Segment::end_open,
+                     "pixels whose rays pass the end facing the camera into the body (an open vessel)")
       .def_property_readonly("pixels",
                              [](const Segment& s) {
                                py::array_t<int> a(py::ssize_t(s.pixels.size()));

@@ -267,8 +267,10 @@ TEST(TrackingGraph, OrderedNodeGivesTheSameTracksInBothModes) {
 }
 
 TEST(TrackingGraph, RingsLeaningOnJarsAreDroppedAndMugsKeepTheirTracks) {
-  // the orbits of seeds 700, 702 and 720: a ring leaning on a jar passes for a mug's handle from
-  // several views (seed 720: from four views in a row, its first, nearly edge-on)
+  // the orbits of seeds 700, 702 and 720: a ring leaning on a jar passed for a mug's handle from
+  // several views (seed 720: from four views in a row, its first, nearly edge-on) until the jar's
+  // lid was looked at (Segment::end_closed: a mug is open). A view fooled still must be dropped
+  // within 5 frames (Tracking.PartsDriftingApartOrAContradictedBodyAreRejected fools it on purpose)
   graph::Graph g = graph::Graph::load(std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop_tracking.yaml");
   bench::TrackingScore score;
   for (std::uint64_t seed : {700, 702, 720}) {
@@ -289,7 +291,7 @@ TEST(TrackingGraph, RingsLeaningOnJarsAreDroppedAndMugsKeepTheirTracks) {
               "lost, %d id switches\n",
               score.false_mug_views, score.false_mug_views_reported, score.false_mugs, score.false_mugs_dropped_in_5,
               score.true_mugs_lost, score.true_mugs, score.id_switches);
-  EXPECT_GE(score.false_mug_views, 1);  // the scenes do fool single views
+  EXPECT_LE(score.false_mug_views, 1);  // 16 views fooled, 2 false tracks before the end view
   EXPECT_GE(score.false_mugs_dropped_in_5, 0.9 * score.false_mugs);
   EXPECT_GE(score.true_mugs, 2);
   EXPECT_EQ(score.true_mugs_lost, 0);

@@ -93,7 +93,8 @@ def test_mereo_run_gives_the_same_objects(result):
 def test_goal_restricts_the_models_and_the_search(scene):
     g = mereo.tabletop_graph(goal="jar")
     r = mereo.recognize(scene.frame, graph=g)
-    assert {o["model"] for o in r["objects"]} <= {"jar"}
+    # three open mugs: no jar (before the end view they were taken for jars), three unknown regions
+    assert [o["model"] for o in r["objects"]] == ["unknown"] * 3
     assert not [p for p in r["primitives"] if p["class"] == "torus"]  # no handle search for a jar
     opts = mereo.recognition.goal_options("mug")
     assert opts["classes"] == "cylinder,torus" and 0.02 < opts["handle_body_min_radius"] < 0.03

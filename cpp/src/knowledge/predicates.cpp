@@ -143,7 +143,8 @@ const std::vector<std::string>& attribute_names() {
   // the classes' own (mereo/shapes/*.hpp: radius, height, minor_radius...), then every segment's
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
-    for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "inliers", "residual", "hue", "inward"})
+    for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "inliers", "residual", "hue", "inward",
+                          "closed_end", "open_end"})
       n.push_back(g);
     return n;
   }();
@@ -170,6 +171,14 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
   if (name == "residual") return s.residual;
   if (name == "hue") return s.hue;
   if (name == "inward") return s.inward ? 1.0 : 0.0;
+  if (name == "closed_end" || name == "open_end") {
+    // the share of the end's decided pixels on a lid (closed) or inside (open); 0 for both when
+    // too few were seen to tell, so that neither an open nor a closed model is penalized
+    constexpr int kMinDecided = 20;
+    const int n = s.end_closed + s.end_open;
+    if (n < kMinDecided) return 0.0;
+    return double(name == "closed_end" ? s.end_closed : s.end_open) / n;
+  }
   if (is_attribute(name)) return NAN;
   throw std::invalid_argument("unknown attribute '" + name + "'");
 }

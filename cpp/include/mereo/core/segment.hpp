@@ -25,6 +25,10 @@ struct Segment {
   /// Solid shapes: seen from inside (its pixels' normals point towards the axis or centre: a
   /// mug's inner wall, a bowl's inside), not from outside.
   bool inward = false;
+  /// Axial solids (cylinders, cones) seen from outside: of the valid pixels whose rays cross the
+  /// end cap facing the camera, those that stop on the cap (a lid) and those that pass it into
+  /// the body (an open vessel seen into); 0 and 0 when no end faces the camera.
+  int end_closed = 0, end_open = 0;
   std::vector<int> pixels;          ///< inlier pixel indices v * width + u
 
   Segment() = default;

@@ -71,6 +71,9 @@ def find_support_plane(cloud: typing.Any, normals: typing.Any, up: typing.Annota
         seed (int, default 0, 0..1e+15): random seed of the plane hypotheses
         epsilon (float, default 0.008, 0.0001..0.1): inlier distance at 1 m, metres
         min_inliers (int, default 2000, 10..1e+07): fewest points of the plane
+        candidates (int, default 4, 1..50): distinct planes compared
+        min_share (float, default 0.3, 0..1): a higher plane's least share of the heaviest plane's weight
+        min_area (float, default 0.05, 0..100): a higher plane's least area, square metres
         min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
         max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
         margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres

@@ -32,9 +32,9 @@ def colorize_normals(normals: typing.Any) -> typing.Any:
     """
     Normals (H, W, 3) as colours (n + 1) / 2, black where missing.
     """
-def draw_objects(image: typing.Any, intrinsics: mereo._mereo.Intrinsics, objects: collections.abc.Sequence[tuple[str, collections.abc.Sequence[...]]]) -> typing.Any:
+def draw_objects(image: typing.Any, intrinsics: mereo._mereo.Intrinsics, objects: collections.abc.Sequence[tuple[str, collections.abc.Sequence[...]]], boxes: collections.abc.Sequence[tuple[str, typing.Annotated[collections.abc.Sequence[typing.SupportsInt], "FixedSize(4)"]]] = []) -> typing.Any:
     """
-    The image with each (label, [Segment, ...]) drawn: projected part outlines and the label.
+    The image with each (label, [Segment, ...]) drawn: projected part outlines and the label; each (label, (u0, v0, u1, v1)) of `boxes` (objects without parts: unknown ones) as a grey box.
     """
 def hstack(images: collections.abc.Sequence[typing.Any], gap: typing.SupportsInt = 4) -> typing.Any:
     """

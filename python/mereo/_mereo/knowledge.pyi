@@ -30,6 +30,22 @@ class Segment:
     def cls(self) -> str:
         ...
     @property
+    def end_closed(self) -> int:
+        """
+        pixels whose rays stop on the end facing the camera (a lid; cylinders, cones)
+        """
+    @end_closed.setter
+    def end_closed(self, arg0: typing.SupportsInt) -> None:
+        ...
+    @property
+    def end_open(self) -> int:
+        """
+        pixels whose rays pass the end facing the camera into the body (an open vessel)
+        """
+    @end_open.setter
+    def end_open(self, arg0: typing.SupportsInt) -> None:
+        ...
+    @property
     def hue(self) -> float:
         ...
     @hue.setter

@@ -83,12 +83,19 @@ def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
     Inputs:
         lattice (Lattice): the hypotheses of match_models
         models (ModelSet): the models they were matched from (the models node)
+        segments (Segments, optional): the segments (with cloud and plane: each object must explain its region)
+        cloud (Cloud, optional): the frame's points
+        plane (SupportPlane, optional): the support plane and its region of interest
     Outputs:
         objects (Interpretation): the accepted objects, then the listed alternatives
     Options:
         min_score (float, default 0.5, 0..1): hypotheses below this score are not accepted
         min_posterior (float, default 0.5, 0..1): nor below this posterior
         list_score (float, default 0.3, 0..1): alternatives at or above this are listed
+        min_coverage (float, default 0.5, 0..1): an object's parts' least share of its region
+        depth_jump (float, default 0.02, 0.001..1): a depth step (times the depth) that separates regions
+        reach (float, default 0.02, 0..1): a region's reach beyond its object's extent, metres
+        min_unknown_pixels (int, default 800, 0..1e+07): least pixels of an unknown object (0: none)
     """
 def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     """
@@ -112,7 +119,7 @@ def models(**kwargs) -> mereo._mereo.NodeTemplate:
     Outputs:
         models (ModelSet): the knowledge base and the concepts looked for
     Options:
-        models (str, default mug,cup,jar,can,bottle,plate,bowl): comma-separated concepts to look for
+        models (str, default mug,cup,pitcher,jar,can,bottle,plate,bowl): comma-separated concepts to look for
         file (str, default ): a YAML model file (empty: the shipped models)
     """
 def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
@@ -161,6 +168,9 @@ def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
         seed (int, default 0, 0..1e+15): random seed of the plane hypotheses
         epsilon (float, default 0.008, 0.0001..0.1): inlier distance at 1 m, metres
         min_inliers (int, default 2000, 10..1e+07): fewest points of the plane
+        candidates (int, default 4, 1..50): distinct planes compared
+        min_share (float, default 0.3, 0..1): a higher plane's least share of the heaviest plane's weight
+        min_area (float, default 0.05, 0..100): a higher plane's least area, square metres
         min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
         max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
         margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres

@@ -86,12 +86,14 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     c /= double(world.size());
     double radius = 0;
     for (const auto& w : world) radius = std::max(radius, (w.head<2>() - c).norm());
-    radius += o.reach, foot -= o.reach;
+    // reach: what the parts missed beside the object (a handle's root, a rim); but beside its
+    // foot is what it stands on (a tin's lid under a jar), not it
     const auto region = grow(g, pixels[a], o.depth_jump, mark, stamp++, [&](int j) {
       if (owner[std::size_t(j)] == int(a)) return true;
       if (!in_roi(j) || owner[std::size_t(j)] >= 0) return false;
       const Eigen::Vector3d w = T * g.p(j);
-      return w.z() >= foot && (w.head<2>() - c).norm() <= radius;
+      const double d = (w.head<2>() - c).norm();
+      return w.z() >= foot - o.reach && d <= radius + o.reach && (d <= radius || w.z() >= foot + o.reach);
     });
     objects[a].coverage = double(pixels[a].size()) / double(std::max<std::size_t>(1, region.size()));
     if (objects[a].coverage < o.min_coverage) {

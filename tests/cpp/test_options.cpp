@@ -265,7 +265,7 @@ TEST(Options, NestedStructsKeepTheirNamesAndTheNodesDefaults) {
   EXPECT_EQ(std::get<double>(match[1].default_value), 0.05);  // the node prunes; match() keeps all above 1e-6
   const auto models = describe<nodes::ModelsNodeOptions>();
   ASSERT_EQ(models.size(), 2u);
-  EXPECT_EQ(to_text(models[0].default_value), "mug,cup,pitcher,jar,can,bottle,plate,bowl");
+  EXPECT_EQ(to_text(models[0].default_value), "mug,cup,tapered_cup,pitcher,jar,can,bottle,plate,bowl");
 }
 
 TEST(Options, DetectPrimitivesClassesByName) {

@@ -62,7 +62,7 @@ def test_the_same_pipeline_built_node_by_node(scene, result):
     raw = g.add("back_project", "raw_cloud")
     normals = g.add("estimate_normals", "normals")
     table = g.add("support_plane", "table")
-    prims = g.add("detect_primitives", "primitives")
+    prims = g.add("detect_primitives", "primitives", classes="plane,cylinder,cone,sphere,torus")
     objects = g.add("match_models", "objects")
     interpretation = g.add("interpret", "interpretation")
     report = g.add("report", "result")
@@ -340,18 +340,15 @@ def test_lying_cans_and_jars_are_recognized_lying():
     assert "lying" in poses and "upright" in poses
 
 
-def test_tapered_cups_when_cones_are_searched_for():
-    """Opt-in (the shipped graph does not search for cones yet): with the cone class and the
-    tapered_cup model, the renderer's tapered cups are recognized as such."""
+def test_tapered_cups_are_recognized_by_the_shipped_graph():
+    """The shipped graph searches for cones and has the tapered_cup model: the renderer's
+    tapered cups are recognized as such."""
     from mereo import evaluate as ev
 
     so = mereo.synthetic.SceneOptions()
     so.tapered_cups = True
     seeds = [f"synthetic:{s}" for s in range(3200, 3208)]
-    g = mereo.recognition.tabletop_graph()
-    g.set_options("primitives", classes="plane,cylinder,cone,sphere,torus")
-    g.set_options("models", models="mug,cup,tapered_cup,jar,can,bottle,plate,bowl")
-    results = mereo.recognize_all([mereo.io.read(s, scene=so) for s in seeds], graph=g)
+    results = mereo.recognize_all([mereo.io.read(s, scene=so) for s in seeds])
     e = ev.evaluate(results, ev.load_truths(seeds, options=so))
     cups = e.models["tapered_cup"]
     assert cups.eligible >= 6 and cups.recall >= 0.7 and cups.precision >= 0.9, (cups.found, cups.eligible, cups.correct, cups.results)

@@ -15,7 +15,7 @@ namespace mereo::nodes {
 
 /// models: the concepts looked for and where the models come from (the graph's one place of both).
 struct ModelsNodeOptions {
-  std::vector<std::string> models{"mug", "cup", "pitcher", "jar", "can", "bottle", "plate", "bowl"};
+  std::vector<std::string> models{"mug", "cup", "tapered_cup", "pitcher", "jar", "can", "bottle", "plate", "bowl"};
   std::string file;  ///< a YAML model file; empty: the shipped models
   static const Fields<ModelsNodeOptions>& fields();
 };

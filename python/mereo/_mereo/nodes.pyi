@@ -119,7 +119,7 @@ def models(**kwargs) -> mereo._mereo.NodeTemplate:
     Outputs:
         models (ModelSet): the knowledge base and the concepts looked for
     Options:
-        models (str, default mug,cup,pitcher,jar,can,bottle,plate,bowl): comma-separated concepts to look for
+        models (str, default mug,cup,tapered_cup,pitcher,jar,can,bottle,plate,bowl): comma-separated concepts to look for
         file (str, default ): a YAML model file (empty: the shipped models)
     """
 def odometry(**kwargs) -> mereo._mereo.NodeTemplate:

@@ -214,6 +214,7 @@ void bind_knowledge(py::module_& m) {
 
   py::class_<mt::Hypothesis>(m, "Hypothesis", "Segments assigned to a concept's parts (-1 = missing).")
       .def_readonly("concept", &mt::Hypothesis::concept_name)
+      .def_readonly("modality", &mt::Hypothesis::modality, "the part set it was matched with (\"\" without alternatives)")
       .def_readonly("assignment", &mt::Hypothesis::assignment)
       .def_readonly("score", &mt::Hypothesis::score)
       .def_readonly("posterior", &mt::Hypothesis::posterior)

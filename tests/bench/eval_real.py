@@ -77,9 +77,10 @@ def eval_nv(name: str, result: dict, labels: np.ndarray, mask: np.ndarray) -> tu
     if len(objs) != 1 or objs[0]["model"] != want:
         return False, got
     o = objs[0]
-    body = part_pixels(labels, o["parts"]["body"])
+    # the body, or a part set without one its first part (a conical bowl's wall)
+    body = part_pixels(labels, o["parts"].get("body") or next(iter(o["parts"].values())))
     inside = (body & mask).sum() / max(1, body.sum())
-    text = f"{got}, body {100 * inside:.0f}% in the mask"
+    text = f"{got}{' (' + o['modality'] + ')' if 'modality' in o else ''}, body {100 * inside:.0f}% in the mask"
     ok = inside >= 0.8
     if want == "mug":
         if "handle" not in o["parts"]:

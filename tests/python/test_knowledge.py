@@ -39,6 +39,23 @@ def test_shipped_models_and_matching():
         assert set(x for x in a if x >= 0) & set(x for x in b if x >= 0)
 
 
+
+def test_every_modality_of_a_concept_is_matched_and_named():
+    """The shipped bowl has two part sets (round: a sphere; conical: a cone's inner wall): both are
+    looked for, and each hypothesis names the one it was matched with."""
+    kb = kn.load_models()
+    sphere = kn.Segment("sphere", point=[0, 0, 1], radius=0.08)
+    wall = kn.Segment("cone", point=[0.3, 0, 1], axis=UP, radius=0.06, half_angle_deg=30, height=0.05, inward=True)
+    jar = mug_segments()[2]
+    lattice = kn.recognize(kb, ["bowl", "jar"], [sphere, wall, jar], up=UP)
+    got = {(h.concept, h.modality, tuple(h.assignment)) for h in lattice.hypotheses if h.score > 0.5}
+    assert ("bowl", "round", (0, -1)) in got and ("bowl", "conical", (1,)) in got, got
+    assert ("jar", "", (2, -1)) in got, got
+    # a tapered cup's wall (8 degrees) is no bowl
+    cup_wall = kn.Segment("cone", point=[0.3, 0, 1], axis=UP, radius=0.06, half_angle_deg=8, height=0.05, inward=True)
+    lattice = kn.recognize(kb, ["bowl"], [cup_wall], up=UP)
+    assert all(h.score < 0.5 for h in lattice.hypotheses if h.modality == "conical")
+
 def test_python_concept_with_a_python_predicate():
     calls = []
 

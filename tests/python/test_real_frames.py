@@ -15,7 +15,7 @@ def _eval_real():
     return mod
 
 
-@pytest.mark.parametrize("name", ["red_mug", "white_mug", "white_bowl", "cylinder"])
+@pytest.mark.parametrize("name", ["red_mug", "white_mug", "white_bowl", "green_bowl", "cylinder"])
 def test_realsense_frames_report_their_object_on_its_mask(real, name):
     """red_mug: a mug whose handle (a thick D-shaped ring, not a torus) lies on the mug's mask."""
     import mereo

@@ -68,24 +68,53 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     for (int i : pixels[a]) owner[std::size_t(i)] = int(a);
   }
 
+  // each object's footprint on the table, all the way up from its foot: a primitive fitted to a
+  // band of a free-form object leaves the rest of it above unexplained (a ball about the object
+  // would reach far over the top of a tin a tall jar stands on; what it stands on is not it)
+  const Pose& T = plane.world_from_camera;
+  struct Footprint {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();     // of its pixels
+    Eigen::Vector2d body = Eigen::Vector2d::Zero();  // its first part's centre (on its axis)
+    double radius = 0, foot = INFINITY, top = -INFINITY;
+  };
+  std::vector<Footprint> fp(objects.size());
+  for (std::size_t a = 0; a < objects.size(); ++a) {
+    if (!objects[a].accepted || pixels[a].empty()) continue;
+    std::vector<Eigen::Vector3d> world;
+    for (int i : pixels[a]) world.push_back(T * g.p(i));
+    Footprint& f = fp[a];
+    for (const auto& w : world) f.c += w.head<2>(), f.foot = std::min(f.foot, w.z()), f.top = std::max(f.top, w.z());
+    f.c /= double(world.size());
+    for (const auto& w : world) f.radius = std::max(f.radius, (w.head<2>() - f.c).norm());
+    f.body = (T * segments.at(std::size_t(objects[a].parts.front().second)).origin()).head<2>();
+  }
+  const auto reject = [&](std::size_t a, const std::string& why) {
+    objects[a].accepted = false;
+    objects[a].rejected = why;
+    for (int i : pixels[a]) owner[std::size_t(i)] = -1;
+  };
   // each object's region: connected to its pixels, within its extent (plus reach) of its centre,
   // not another object's; its coverage is its own pixels' share
   std::vector<int> mark(N, -1), region_of(N, -1);
   int stamp = 0;
-  const Pose& T = plane.world_from_camera;
   for (std::size_t a = 0; a < objects.size(); ++a) {
     if (!objects[a].accepted || pixels[a].empty()) continue;
-    // the object's footprint on the table, all the way up from its foot: a primitive fitted to a
-    // band of a free-form object leaves the rest of it above unexplained (a ball about the object
-    // would reach far over the top of a tin a tall jar stands on; what it stands on is not it)
-    std::vector<Eigen::Vector3d> world;
-    for (int i : pixels[a]) world.push_back(T * g.p(i));
-    Eigen::Vector2d c = Eigen::Vector2d::Zero();
-    double foot = INFINITY;
-    for (const auto& w : world) c += w.head<2>(), foot = std::min(foot, w.z());
-    c /= double(world.size());
-    double radius = 0;
-    for (const auto& w : world) radius = std::max(radius, (w.head<2>() - c).norm());
+    // two objects do not fill one place: of two whose bodies' centres lie within the larger
+    // footprint and whose heights overlap by half the lower one, the later (weaker) goes (a bowl
+    // matched twice, round on its outside and conical on its inside; a band's pixels lie off
+    // its body's centre, hence the bodies')
+    const std::size_t same = std::find_if(objects.begin(), objects.begin() + std::ptrdiff_t(a), [&](const auto& b) {
+                               const Footprint &fa = fp[a], &fb = fp[std::size_t(&b - objects.data())];
+                               const double overlap = std::min(fa.top, fb.top) - std::max(fa.foot, fb.foot);
+                               return b.accepted && (fa.body - fb.body).norm() < std::max(fa.radius, fb.radius) &&
+                                      overlap > 0.5 * std::min(fa.top - fa.foot, fb.top - fb.foot);
+                             }) - objects.begin();
+    if (same < a) {
+      reject(a, "in the place of a " + objects[same].model + " that scores higher");
+      continue;
+    }
+    const Eigen::Vector2d c = fp[a].c;
+    const double radius = fp[a].radius, foot = fp[a].foot;
     // reach: what the parts missed beside the object (a handle's root, a rim); but beside its
     // foot is what it stands on (a tin's lid under a jar), not it
     const auto region = grow(g, pixels[a], o.depth_jump, mark, stamp++, [&](int j) {
@@ -97,13 +126,11 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     });
     objects[a].coverage = double(pixels[a].size()) / double(std::max<std::size_t>(1, region.size()));
     if (objects[a].coverage < o.min_coverage) {
-      objects[a].accepted = false;
       char why[160];
       std::snprintf(why, sizeof why, "explains %.0f%% of its region (%zu of %zu pixels; at least %.0f%%): not a %s",
                     100 * objects[a].coverage, pixels[a].size(), region.size(), 100 * o.min_coverage,
                     objects[a].model.c_str());
-      objects[a].rejected = why;
-      for (int i : pixels[a]) owner[std::size_t(i)] = -1;
+      reject(a, why);
     } else {
       for (int i : region) region_of[std::size_t(i)] = int(a);
     }

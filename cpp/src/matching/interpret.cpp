@@ -26,12 +26,16 @@ void segments_of(const Hypothesis& h, std::set<int>& out) {
 std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, const Lattice& lattice,
                                         const InterpretOptions& o) {
   const auto& H = lattice.hypotheses;
-  std::map<std::string, knowledge::Concept> concepts;
+  // the part set of each hypothesis: its concept's modality
+  std::map<std::pair<std::string, std::string>, knowledge::Concept> concepts;
+  const auto concept_of = [&](const Hypothesis& h) -> const knowledge::Concept& {
+    return concepts.at({h.concept_name, h.modality});
+  };
   std::vector<std::set<int>> segs(H.size());
   for (std::size_t i = 0; i < H.size(); ++i) {
     segments_of(H[i], segs[i]);
-    if (!concepts.count(H[i].concept_name))
-      concepts.emplace(H[i].concept_name, knowledge::select(kb.resolve(H[i].concept_name)));
+    const std::pair<std::string, std::string> key{H[i].concept_name, H[i].modality};
+    if (!concepts.count(key)) concepts.emplace(key, knowledge::select(kb.resolve(H[i].concept_name), H[i].modality));
   }
   // Between hypotheses that explain as many segments equally well, the more specific concept
   // wins (a can over a jar for a 66 mm body): the data are likelier under the narrower ranges
@@ -39,7 +43,7 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
   // parts present.
   std::vector<double> breadth(H.size(), 0.0);
   for (std::size_t i = 0; i < H.size(); ++i) {
-    const auto& c = concepts.at(H[i].concept_name);
+    const auto& c = concept_of(H[i]);
     for (const auto& a : c.attributes) {
       const int k = c.part_index(a.part);
       if (k < 0 || k >= int(H[i].assignment.size()) || H[i].assignment[k] < 0) continue;
@@ -78,7 +82,8 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
       r.posterior = H[i].posterior;
       r.accepted = pass == 0;
       r.hypothesis = i;
-      const auto& c = concepts.at(H[i].concept_name);
+      r.modality = H[i].modality;
+      const auto& c = concept_of(H[i]);
       for (std::size_t k = 0; k < c.parts.size() && k < H[i].assignment.size(); ++k)
         if (H[i].assignment[k] >= 0) r.parts.emplace_back(c.parts[k].role, H[i].assignment[k]);
       out.push_back(std::move(r));
@@ -112,6 +117,7 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
   for (const auto& o : objects) {
     Json obj;
     obj["id"] = o.id, obj["model"] = o.model, obj["score"] = o.score, obj["posterior"] = o.posterior;
+    if (!o.modality.empty()) obj["modality"] = o.modality;
     obj["accepted"] = o.accepted;
     obj["parts"] = Json::object();
     for (const auto& [role, k] : o.parts) {

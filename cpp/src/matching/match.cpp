@@ -384,8 +384,14 @@ std::vector<Hypothesis> match(const Concept& c, const std::vector<Segment>& segs
 
 Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::string>& concepts,
                   const std::vector<Segment>& segments, const MatchOptions& options) {
+  // every modality of a concept is matched as a concept of its own (the method's OR links)
   std::vector<Concept> resolved;
-  for (const auto& name : concepts) resolved.push_back(knowledge::select(kb.resolve(name)));
+  std::vector<std::string> modality;
+  for (const auto& name : concepts) {
+    const Concept full = kb.resolve(name);
+    if (full.modalities.empty()) resolved.push_back(knowledge::select(full)), modality.emplace_back();
+    for (const auto& m : full.modalities) resolved.push_back(knowledge::select(full, m.name)), modality.push_back(m.name);
+  }
   std::vector<std::vector<Hypothesis>> found(resolved.size());
   std::vector<MatchStats> stats(resolved.size());
   MatchOptions o = options;
@@ -394,7 +400,10 @@ Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::str
                     [&](std::size_t i) { found[i] = match(resolved[i], segments, o, &stats[i]); });
   Lattice out;
   for (std::size_t i = 0; i < found.size(); ++i) {
-    for (auto& h : found[i]) out.hypotheses.push_back(std::move(h));
+    for (auto& h : found[i]) {
+      h.modality = modality[i];
+      out.hypotheses.push_back(std::move(h));
+    }
     out.stats.expanded += stats[i].expanded;
     out.stats.pruned += stats[i].pruned;
     out.stats.complete += stats[i].complete;

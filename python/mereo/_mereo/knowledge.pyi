@@ -321,6 +321,11 @@ class Hypothesis:
     def concept(self) -> str:
         ...
     @property
+    def modality(self) -> str:
+        """
+        the part set it was matched with ("" without alternatives)
+        """
+    @property
     def posterior(self) -> float:
         ...
     @property

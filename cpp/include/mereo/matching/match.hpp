@@ -27,7 +27,10 @@ namespace mereo::matching {
 
 struct Hypothesis {
   std::string concept_name;
-  std::vector<int> assignment;  ///< per part of the concept: index into the segments, -1 = missing
+  /// The concept's part set it was matched with (Concept::modalities: alternatives, such as a
+  /// round or a conical bowl); "" for a concept without modalities.
+  std::string modality;
+  std::vector<int> assignment;  ///< per part of the modality (knowledge::select): segment index, -1 = missing
   double score = 0.0;           ///< eq. 5.5, in (0, 1]
   double posterior = 0.0;       ///< P(concept | evidence) from the concept's net
   /// Per part whose class is a concept (hierarchies): the sub-hypothesis assigned to it (its

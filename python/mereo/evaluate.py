@@ -202,7 +202,8 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
                 continue
             s = ev.models.setdefault(o["model"], ModelStats())
             s.results += 1
-            body = o["parts"].get("body")
+            # the body, or a part set without one its first part (a conical bowl's wall)
+            body = o["parts"].get("body") or next(iter(o["parts"].values()), None)
             t = None
             if body is not None and body["class"] in ("cylinder", "cone", "sphere"):
                 t, d = _match(body, objects, max_offset, max_radius_error)

@@ -135,6 +135,9 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
       for (int i : region) region_of[std::size_t(i)] = int(a);
     }
   }
+  std::vector<Footprint> kept;  // the accepted objects' places
+  for (std::size_t a = 0; a < objects.size(); ++a)
+    if (objects[a].accepted && !pixels[a].empty()) kept.push_back(fp[a]);
   // accepted objects first, as interpret lists them (ids and excludes renumbered)
   std::stable_partition(objects.begin(), objects.end(), [](const RecognizedObject& r) { return r.accepted; });
   std::vector<int> new_id(objects.size());
@@ -155,6 +158,21 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
       return in_roi(j) && region_of[std::size_t(j)] < 0;
     });
     if (int(region.size()) < o.min_unknown_pixels) continue;
+    // what lies in an accepted object's place is more of it (the outer wall under a conical
+    // bowl's inside, a pitcher's lid), not an unknown object
+    Eigen::Vector2d at = Eigen::Vector2d::Zero();
+    double low = INFINITY, high = -INFINITY;
+    for (int j : region) {
+      const Eigen::Vector3d w = T * g.p(j);
+      at += w.head<2>(), low = std::min(low, w.z()), high = std::max(high, w.z());
+    }
+    at /= double(region.size());
+    if (std::any_of(kept.begin(), kept.end(), [&](const Footprint& f) {
+          // (overlapping in height, not stacked: a tin a jar stands on touches only its foot)
+          const double overlap = std::min(high, f.top) - std::max(low, f.foot);
+          return (at - f.body).norm() < f.radius + o.reach && overlap > std::min(o.reach, 0.5 * (high - low));
+        }))
+      continue;
     RecognizedObject u;
     u.id = int(objects.size());
     u.model = "unknown";

@@ -103,12 +103,14 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     // footprint and whose heights overlap by half the lower one, the later (weaker) goes (a bowl
     // matched twice, round on its outside and conical on its inside; a band's pixels lie off
     // its body's centre, hence the bodies')
-    const std::size_t same = std::find_if(objects.begin(), objects.begin() + std::ptrdiff_t(a), [&](const auto& b) {
-                               const Footprint &fa = fp[a], &fb = fp[std::size_t(&b - objects.data())];
-                               const double overlap = std::min(fa.top, fb.top) - std::max(fa.foot, fb.foot);
-                               return b.accepted && (fa.body - fb.body).norm() < std::max(fa.radius, fb.radius) &&
-                                      overlap > 0.5 * std::min(fa.top - fa.foot, fb.top - fb.foot);
-                             }) - objects.begin();
+    std::size_t same = 0;
+    for (const Footprint& fa = fp[a]; same < a; ++same) {
+      const Footprint& fb = fp[same];
+      const double overlap = std::min(fa.top, fb.top) - std::max(fa.foot, fb.foot);
+      if (objects[same].accepted && (fa.body - fb.body).norm() < std::max(fa.radius, fb.radius) &&
+          overlap > 0.5 * std::min(fa.top - fa.foot, fb.top - fb.foot))
+        break;
+    }
     if (same < a) {
       reject(a, "in the place of a " + objects[same].model + " that scores higher");
       continue;

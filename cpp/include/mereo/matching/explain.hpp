@@ -2,8 +2,10 @@
 // cylinder fitted to a band of a squeeze bottle, or a sphere to the corner of a box, is a good
 // primitive of a small part of a free-form object; the object is then not a container but
 // `unknown`. The check: the object's region (the pixels above the table connected to its parts'
-// pixels without a depth jump, over its footprint on the table) must be mostly its parts' pixels.
-// What no accepted object explains is reported as unknown objects with their region and size.
+// pixels without a depth jump, over its footprint on the table, not what it stands on) must be
+// mostly its parts' pixels. Two objects do not fill one place: the weaker of two there goes.
+// What no accepted object explains and lies in no accepted object's place is reported as unknown
+// objects with their region and size.
 #pragma once
 
 #include <vector>
@@ -15,8 +17,9 @@
 
 namespace mereo::matching {
 
-/// Rejects the accepted objects of `objects` that do not explain their region (accepted = false,
-/// `rejected` says why, `coverage` set on every accepted one), then appends the unexplained
+/// Rejects the accepted objects of `objects` (in their order: the strongest first) that take the
+/// place of an earlier one or do not explain their region (accepted = false, `rejected` says why,
+/// `coverage` set on every accepted one), then appends the unexplained
 /// regions of `plane.roi` as objects of model "unknown" (not accepted, with their `region`).
 /// The thresholds are InterpretOptions' min_coverage, depth_jump, reach and min_unknown_pixels.
 /// `cloud` is the frame's organized cloud; pixel indices are row-major. Deterministic.

@@ -37,6 +37,13 @@ MIN_BODY_PIXELS = 500
 MIN_HANDLE_PIXELS = 150
 
 
+def body_part(obj: dict) -> dict | None:
+    """A result object's body: its "body" part, or for a part set without one (a conical bowl's
+    wall) its first part; None when it has no parts (an unknown object)."""
+    parts = obj.get("parts") or {}
+    return parts.get("body") or next(iter(parts.values()), None)
+
+
 def load_results(path) -> list[dict]:
     """The frames of a JSON Lines file written by `mereo recognize`."""
     out = []
@@ -202,8 +209,7 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
                 continue
             s = ev.models.setdefault(o["model"], ModelStats())
             s.results += 1
-            # the body, or a part set without one its first part (a conical bowl's wall)
-            body = o["parts"].get("body") or next(iter(o["parts"].values()), None)
+            body = body_part(o)
             t = None
             if body is not None and body["class"] in ("cylinder", "cone", "sphere"):
                 t, d = _match(body, objects, max_offset, max_radius_error)

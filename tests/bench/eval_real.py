@@ -77,8 +77,9 @@ def eval_nv(name: str, result: dict, labels: np.ndarray, mask: np.ndarray) -> tu
     if len(objs) != 1 or objs[0]["model"] != want:
         return False, got
     o = objs[0]
-    # the body, or a part set without one its first part (a conical bowl's wall)
-    body = part_pixels(labels, o["parts"].get("body") or next(iter(o["parts"].values())))
+    import mereo.evaluate
+
+    body = part_pixels(labels, mereo.evaluate.body_part(o))
     inside = (body & mask).sum() / max(1, body.sum())
     text = f"{got}{' (' + o['modality'] + ')' if 'modality' in o else ''}, body {100 * inside:.0f}% in the mask"
     ok = inside >= 0.8

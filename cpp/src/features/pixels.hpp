@@ -2,6 +2,7 @@
 // the steps that turn a candidate's pixels into a segment. See features/primitives.hpp.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -78,6 +79,22 @@ struct Pixels {
   /// pixels (seed snapped to it); `mask` (optional) restricts it. Capped at `cap` cells.
   std::vector<int> component(const Segment& s, int seed, int step, const std::uint8_t* mask = nullptr,
                              std::size_t cap = SIZE_MAX) const;
+  /// An image rectangle, inclusive.
+  struct Box {
+    int u0, v0, u1, v1;
+  };
+  /// The rectangle of the pixel indices `pix` (not empty).
+  Box box_of(const std::vector<int>& pix) const {
+    Box b{W, H, -1, -1};
+    for (int i : pix)
+      b.u0 = std::min(b.u0, i % W), b.u1 = std::max(b.u1, i % W), b.v0 = std::min(b.v0, i / W),
+      b.v1 = std::max(b.v1, i / W);
+    return b;
+  }
+  /// `b` grown by `by` pixels each way, clipped to the frame.
+  Box grown(const Box& b, int by) const {
+    return {std::max(0, b.u0 - by), std::max(0, b.v0 - by), std::min(W - 1, b.u1 + by), std::min(H - 1, b.v1 + by)};
+  }
   /// The shape limits of the options.
   shapes::Limits limits(double min_radius, double max_radius) const {
     return {min_radius, max_radius, o.min_minor_radius, o.max_minor_radius, o.max_major_radius};

@@ -391,18 +391,13 @@ bool piece_of_handle(const Pixels& f, const Segment& body_segment, const Segment
 /// rectangle of the attached segment's pixels grown by the ball's size in pixels).
 std::vector<Segment> find_in(const Pixels& f, PrimitiveClass cls, const SearchRegion& region, const DetectOptions& o,
                              const ColorImage* color, int max_count) {
-  int v0 = 0, v1 = f.H - 1, u0 = 0, u1 = f.W - 1;
+  Pixels::Box scan{0, 0, f.W - 1, f.H - 1};
   if (region.ball_radius > 0 && region.attached_to && !region.attached_to->pixels.empty()) {
     const Segment& a = *region.attached_to;
-    v0 = f.H, v1 = -1, u0 = f.W, u1 = -1;
     double zmin = INFINITY;
-    for (int i : a.pixels) {
-      v0 = std::min(v0, i / f.W), v1 = std::max(v1, i / f.W), u0 = std::min(u0, i % f.W), u1 = std::max(u1, i % f.W);
-      zmin = std::min(zmin, f.p(i).z());
-    }
-    const int grow = int(std::ceil(region.ball_radius * f.focal / std::max(0.1, zmin - region.ball_radius)));
-    v0 = std::max(0, v0 - grow), v1 = std::min(f.H - 1, v1 + grow);
-    u0 = std::max(0, u0 - grow), u1 = std::min(f.W - 1, u1 + grow);
+    for (int i : a.pixels) zmin = std::min(zmin, f.p(i).z());
+    scan = f.grown(f.box_of(a.pixels),
+                   int(std::ceil(region.ball_radius * f.focal / std::max(0.1, zmin - region.ball_radius))));
   }
   std::vector<std::uint8_t> excluded;
   if (!region.exclude.empty()) {
@@ -411,8 +406,8 @@ std::vector<Segment> find_in(const Pixels& f, PrimitiveClass cls, const SearchRe
       for (int i : s->pixels) excluded[i] = 1;
   }
   std::vector<int> pixels;
-  for (int v = v0; v <= v1; ++v)
-    for (int u = u0; u <= u1; ++u) {
+  for (int v = scan.v0; v <= scan.v1; ++v)
+    for (int u = scan.u0; u <= scan.u1; ++u) {
       const int i = v * f.W + u;
       if (!f.free[i] || (!region.mask.empty() && !region.mask.data()[i]) || (!excluded.empty() && excluded[i])) continue;
       if (region.ball_radius > 0 && (f.p(i) - region.ball_center).norm() > region.ball_radius) continue;
@@ -463,7 +458,7 @@ void look_at_end(const Pixels& f, Segment& s) {
     point = c->point, axis = c->axis.normalized(), height = c->height, r_lo = r_hi = c->radius;
   } else if (const auto* k = s.get_if<shapes::Cone>()) {
     point = k->point, axis = k->axis.normalized(), height = k->height;
-    r_lo = k->radius - std::tan(k->angle) * height / 2, r_hi = k->radius + std::tan(k->angle) * height / 2;
+    r_lo = k->radius_at(-height / 2), r_hi = k->radius_at(height / 2);
   } else {
     return;
   }
@@ -475,14 +470,10 @@ void look_at_end(const Pixels& f, Segment& s) {
   if (!(r_end > 0) || -n.dot(end) < kMinCos * end.norm()) return;
   // the window: the segment's pixel box grown by its larger side each way (the cap's image lies
   // next to the body's)
-  int u0 = f.W, v0 = f.H, u1 = -1, v1 = -1;
-  for (int i : s.pixels) u0 = std::min(u0, i % f.W), u1 = std::max(u1, i % f.W), v0 = std::min(v0, i / f.W),
-                         v1 = std::max(v1, i / f.W);
-  const int grow = std::max(u1 - u0, v1 - v0) + 1;
-  u0 = std::max(0, u0 - grow), v0 = std::max(0, v0 - grow), u1 = std::min(f.W - 1, u1 + grow),
-  v1 = std::min(f.H - 1, v1 + grow);
-  for (int v = v0; v <= v1; ++v)
-    for (int u = u0; u <= u1; ++u) {
+  const Pixels::Box body = f.box_of(s.pixels);
+  const Pixels::Box w = f.grown(body, std::max(body.u1 - body.u0, body.v1 - body.v0) + 1);
+  for (int v = w.v0; v <= w.v1; ++v)
+    for (int u = w.u0; u <= w.u1; ++u) {
       const float* q = f.cloud.ptr(v, u);
       if (!valid_point(q)) continue;
       const Eigen::Vector3d x(q[0], q[1], q[2]);

@@ -160,29 +160,13 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
       return in_roi(j) && region_of[std::size_t(j)] < 0;
     });
     if (int(region.size()) < o.min_unknown_pixels) continue;
-    // what lies in an accepted object's place is more of it (the outer wall under a conical
-    // bowl's inside, a pitcher's lid), not an unknown object
-    Eigen::Vector2d at = Eigen::Vector2d::Zero();
-    double low = INFINITY, high = -INFINITY;
-    for (int j : region) {
-      const Eigen::Vector3d w = T * g.p(j);
-      at += w.head<2>(), low = std::min(low, w.z()), high = std::max(high, w.z());
-    }
-    at /= double(region.size());
-    if (std::any_of(kept.begin(), kept.end(), [&](const Footprint& f) {
-          // (overlapping in height, not stacked: a tin a jar stands on touches only its foot)
-          const double overlap = std::min(high, f.top) - std::max(low, f.foot);
-          return (at - f.body).norm() < f.radius + o.reach && overlap > std::min(o.reach, 0.5 * (high - low));
-        }))
-      continue;
-    RecognizedObject u;
-    u.id = int(objects.size());
-    u.model = "unknown";
-    u.rejected = "no model explains it";
     RecognizedObject::Region r;
     r.pixels = int(region.size());
     r.box = {W, H, -1, -1};
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+    Eigen::Vector2d at = Eigen::Vector2d::Zero();  // on the table
+    double low = INFINITY, high = -INFINITY;       // above the table
+    double top = 0;                                // up: from the table to the region's top
     for (int j : region) {
       r.box[0] = std::min(r.box[0], j % W), r.box[1] = std::min(r.box[1], j / W);
       r.box[2] = std::max(r.box[2], j % W), r.box[3] = std::max(r.box[3], j / W);
@@ -190,13 +174,26 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
       r.centroid += x;
       const Eigen::Vector3d w = R * x;
       lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
+      const Eigen::Vector3d t = w + T.translation();  // T * x: the footprints' frame
+      at += t.head<2>(), low = std::min(low, t.z()), high = std::max(high, t.z());
+      top = std::max(top, plane.height(x));
     }
+    at /= double(region.size());
+    // what lies in an accepted object's place is more of it (the outer wall under a conical
+    // bowl's inside, a pitcher's lid), not an unknown object
+    if (std::any_of(kept.begin(), kept.end(), [&](const Footprint& f) {
+          // (overlapping in height, not stacked: a tin a jar stands on touches only its foot)
+          const double overlap = std::min(high, f.top) - std::max(low, f.foot);
+          return (at - f.body).norm() < f.radius + o.reach && overlap > std::min(o.reach, 0.5 * (high - low));
+        }))
+      continue;
     r.centroid /= double(region.size());
     r.size = hi - lo;
-    // up: from the table to the region's top
-    double top = 0;
-    for (int j : region) top = std::max(top, plane.height(g.p(j)));
     r.size.z() = top;
+    RecognizedObject u;
+    u.id = int(objects.size());
+    u.model = "unknown";
+    u.rejected = "no model explains it";
     u.region = r;
     objects.push_back(std::move(u));
   }

@@ -8,6 +8,9 @@
 // Prints one JSON line per frame (its id and a summary of each kept output), then per-node
 // timings on stderr. With --result NODE.PORT (a report node's output) each line is that
 // frame's result, as `mereo recognize` writes it, with "timing_ms" per node. Bad input: one line on stderr and exit status 2.
+// A frame that fails (it cannot be read, or a node finds nothing usable in it) gets a line with
+// its "error" and the run goes on (--on-error skip, the default, as `mereo recognize` does).
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -42,6 +45,29 @@ void list_kinds() {
   }
 }
 
+/// The value of `option` as a number (NaN and inf too: the reader that uses it checks its range),
+/// or an InputError naming the option and value.
+double number(const std::string& option, const std::string& text) {
+  std::size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) throw InputError(option + " " + printable(text) + ": expected a number");
+  return x;
+}
+
+/// The value of `option` as a whole number in [lo, hi].
+long whole(const std::string& option, const std::string& text, long lo, long hi) {
+  const double x = number(option, text);
+  if (!(x >= double(lo) && x <= double(hi)) || x != std::floor(x))
+    throw InputError(option + " " + printable(text) + ": expected a whole number from " + std::to_string(lo) +
+                     " to " + std::to_string(hi));
+  return long(x);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -49,6 +75,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> positional;
   graph::RunOptions run;
   run.mode = graph::Mode::Parallel;
+  run.on_error = graph::ErrorPolicy::Skip;
   io::ReadOptions read;
   std::string trace, result;
   try {
@@ -69,7 +96,7 @@ int main(int argc, char** argv) {
         if (m != "parallel" && m != "deterministic") throw InputError("--mode " + m + ": not parallel or deterministic");
         run.mode = m == "parallel" ? graph::Mode::Parallel : graph::Mode::Deterministic;
       } else if (a == "--in-flight") {
-        run.max_in_flight = std::stoul(next());
+        run.max_in_flight = std::size_t(whole(a, next(), 1, 1024));
       } else if (a == "--on-error") {
         const auto p = next();
         if (p != "stop" && p != "skip") throw InputError("--on-error " + p + ": not stop or skip");
@@ -77,9 +104,9 @@ int main(int argc, char** argv) {
       } else if (a == "--intrinsics") {
         read.intrinsics = io::read_intrinsics(next());
       } else if (a == "--depth-scale") {
-        read.depth_scale = std::stod(next());
+        read.depth_scale = number(a, next());
       } else if (a == "--frames") {
-        read.synthetic_frames = std::stoi(next());
+        read.synthetic_frames = int(whole(a, next(), 1, 1000000));
       } else if (a == "--result") {
         result = next();
         run.keep.push_back(result);

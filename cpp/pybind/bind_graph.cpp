@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include "converters.hpp"
+#include "errors.hpp"
 #include "mereo/core/frame.hpp"
 #include "mereo/graph/graph.hpp"
 #include "mereo/io/io.hpp"
@@ -208,10 +209,10 @@ py::dict result_to_python(const FrameResult& r) {
   py::dict outs;
   for (const auto& [k, v] : r.outputs) outs[py::str(k)] = value_to_python(v);
   d["outputs"] = outs;
-  d["error"] = r.error ? py::object(py::str(r.error->what())) : py::object(py::none());
+  d["error"] = r.error ? py::object(mereo::py_util::text_to_python(r.error->what())) : py::object(py::none());
   // which node failed and why (the CLI turns a content failure into a warning)
   d["error_node"] = r.error ? py::object(py::str(r.error->node)) : py::object(py::none());
-  d["error_cause"] = r.error ? py::object(py::str(r.error->cause)) : py::object(py::none());
+  d["error_cause"] = r.error ? py::object(mereo::py_util::text_to_python(r.error->cause)) : py::object(py::none());
   py::dict times;
   for (const auto& [k, v] : r.timings_ms) times[py::str(k)] = v;
   d["timings_ms"] = times;
@@ -235,10 +236,8 @@ void bind_graph(py::module_& m) {
   pu::register_converter("Text", {[](const Value& v) { return py::cast(v.get<std::string>()); },
                                   [](const py::handle& h) { return Value::make<std::string>(h.cast<std::string>()); }});
 
-  auto graph_error = py::register_exception<GraphError>(m, "GraphError", PyExc_ValueError);
-  auto node_error = py::register_exception<NodeError>(m, "NodeError", PyExc_RuntimeError);
-  (void)graph_error;
-  (void)node_error;
+  mereo::py_util::register_error<GraphError>(m, "GraphError", PyExc_ValueError);
+  mereo::py_util::register_error<NodeError>(m, "NodeError", PyExc_RuntimeError);
 
   py::class_<PortRef>(m, "Port", "A node's port in a graph: pass it to Graph.connect.")
       .def_readonly("node", &PortRef::node)

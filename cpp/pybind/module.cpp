@@ -3,6 +3,7 @@
 
 #include "mereo/core/error.hpp"
 #include "mereo/nodes/builtin.hpp"
+#include "errors.hpp"
 
 namespace py = pybind11;
 
@@ -21,7 +22,7 @@ PYBIND11_MODULE(_mereo, m) {
   m.doc() = "mereo's C++ core; import the names from the mereo package instead.";
   m.attr("__version__") = MEREO_VERSION_TEXT;
   mereo::nodes::register_builtin();  // the port types and node kinds, before bind_graph lists them
-  py::register_exception<mereo::InputError>(m, "InputError", PyExc_ValueError);
+  mereo::py_util::register_error<mereo::InputError>(m, "InputError", PyExc_ValueError);
   bind_core(m);
   auto io = m.def_submodule("io", "Frame sources and writers (the hardware layer).");
   bind_io(io);

@@ -247,16 +247,19 @@ def cmd_recognize(args) -> int:
         overlay.mkdir(parents=True, exist_ok=True)
     counts: dict[str, int] = {}
     frames = 0
-    warned = 0
+    warned = unread = 0
     bar = _progress(None, len(seq), "recognize") if len(seq) > 1 else None
     t0 = time.perf_counter()
 
     def on_result(r):
-        nonlocal frames, warned
+        nonlocal frames, warned, unread
         res = recognition._result(r, args.on_error)
         if res.get("warnings") and not res.get("source") and r["index"] < len(seq):
             res["source"] = seq.sources[r["index"]]  # (a frame that failed: where it came from)
+            res["frame"] = res["frame"] or seq.ids[r["index"]]
         out.write(json.dumps(res) + "\n")
+        if r["error"] and r["error_node"] == "frame_source":
+            unread += 1  # the frame could not be read: the run goes on, the exit status says so
         if res.get("warnings"):
             warned += 1
             message = f"mereo: warning: frame {res['frame']}: " + "; ".join(res["warnings"])
@@ -282,10 +285,12 @@ def cmd_recognize(args) -> int:
     found = ", ".join(f"{n} {k}" for n, k in sorted(counts.items())) or "nothing"
     if warned:
         found += f"; {warned} frame(s) with a warning"
+    if unread:
+        found += f", {unread} of them could not be read"
     print(f"mereo recognize: {frames} frame(s) in {wall:.2f} s ({frames / wall:.1f} frames/s): {found}"
           + (f"; results in {args.out}" if args.out else "") + (f"; overlays in {overlay}" if overlay else ""),
           file=sys.stderr)
-    return 0
+    return 1 if unread else 0
 
 
 def cmd_evaluate(args) -> int:

@@ -77,6 +77,15 @@ def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | Non
     estimated from the frames), each reported object with its "track" id."""
     name = "tabletop_odometry.yaml" if tracking and odometry else "tabletop_tracking.yaml" if tracking else "tabletop.yaml"
     g = Graph.load(str(graph) if graph else str(_graph_path(name)))
+    # what this function and `mereo recognize` use of the graph: the node "result" whose output
+    # "result" is the JSON result, and the node "models" that the models and goal configure
+    nodes = {n.name: n for n in g.nodes}
+    needs = [("result", "result", "report")] + ([("models", "models", "models")] if models or goal or models_file else [])
+    for node, port, kind in needs:
+        if node not in nodes or port not in nodes[node].outputs:
+            raise _mereo.InputError(
+                f"{graph or name}: the graph has no node '{node}' with an output '{port}' (a '{kind}' node; "
+                f"its nodes: {', '.join(f'{n.name} ({n.kind})' for n in g.nodes)})")
     if isinstance(models, str):
         models = [m.strip() for m in models.split(",") if m.strip()]
     if goal:

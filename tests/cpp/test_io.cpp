@@ -4,10 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "mereo/core/error.hpp"
 #include "mereo/extension/projection.hpp"
 #include "mereo/io/io.hpp"
+#include "mereo/signal/depth_filter.hpp"
 
 namespace fs = std::filesystem;
 using mereo::InputError;
@@ -58,7 +60,7 @@ TEST(Intrinsics, ParseAndReject) {
   EXPECT_DOUBLE_EQ(K.cx, 319.5);
   expect_error([] { mereo::Intrinsics::parse("525,525,319.5"); }, {"expected 4 numbers"});
   expect_error([] { mereo::Intrinsics::parse("525,abc,319.5,239.5"); }, {"'abc' is not a number"});
-  expect_error([] { mereo::Intrinsics::parse("-1,525,319.5,239.5"); }, {"positive"});
+  expect_error([] { mereo::Intrinsics::parse("-1,525,319.5,239.5"); }, {"fx -1 is not a focal length"});
 }
 
 TEST(Projection, BackProjectAndFitIntrinsicsRoundTrip) {
@@ -163,6 +165,100 @@ TEST(Pcd, ClearErrors) {
   expect_error([&] { mereo::io::read((dir / "flat.pcd").string()); }, {"flat.pcd", "not organized"});
 }
 
+// The headers that crashed or misled (issue 19), each one named error; ascii and binary alike.
+TEST(Pcd, HeaderValuesAreRangeChecked) {
+  const auto dir = scratch("pcd_header");
+  auto write = [&](const std::string& name, const std::string& fields) {
+    const std::string path = (dir / name).string();
+    std::ofstream out(path, std::ios::binary);
+    out << "VERSION .7\n" << fields << "VIEWPOINT 0 0 0 1 0 0 0\n";
+    if (fields.find("DATA") == std::string::npos) out << "DATA binary\n";
+    for (int i = 0; i < 4 * 4 * 6; ++i) out.put(char(i % 7));  // 6 points of 4 floats, any values
+    return path;
+  };
+  const std::string dims = "WIDTH 3\nHEIGHT 2\nPOINTS 6\n";
+  const std::string xyzrgb = "FIELDS x y z rgb\nTYPE F F F U\n";
+  expect_error([&] { mereo::io::read(write("count.pcd", xyzrgb + "SIZE 4 4 4 4\nCOUNT -1 1 1 1\n" + dims)); },
+               {"count.pcd", "field 'x' COUNT '-1': expected 1 to 4096"});
+  expect_error([&] { mereo::io::read(write("size.pcd", xyzrgb + "SIZE -4 4 4 4\nCOUNT 1 1 1 1\n" + dims)); },
+               {"size.pcd", "field 'x' SIZE '-4'"});
+  expect_error([&] { mereo::io::read(write("rgb1.pcd", xyzrgb + "SIZE 4 4 4 1\n" + dims)); },
+               {"rgb1.pcd", "field rgb has SIZE 1"});
+  expect_error([&] { mereo::io::read(write("x8.pcd", xyzrgb + "SIZE 8 4 4 4\n" + dims)); },
+               {"x8.pcd", "field x is not one FLOAT32"});
+  expect_error([&] { mereo::io::read(write("huge.pcd", xyzrgb + "SIZE 4 4 4 4\nWIDTH 100000\nHEIGHT 100000\n")); },
+               {"huge.pcd", "WIDTH '100000'"});
+  expect_error([&] { mereo::io::read(write("big.pcd", xyzrgb + "SIZE 4 4 4 4\nWIDTH 65536\nHEIGHT 65536\n")); },
+               {"big.pcd", "more than 33554432 points"});
+  expect_error([&] { mereo::io::read(write("points.pcd", xyzrgb + "SIZE 4 4 4 4\nWIDTH 3\nHEIGHT 2\nPOINTS 7\n")); },
+               {"points.pcd", "POINTS 7 but WIDTH x HEIGHT = 6"});
+  expect_error([&] { mereo::io::read(write("ascii.pcd", xyzrgb + "SIZE 4 4 4 4\nWIDTH 300\nHEIGHT 200\nDATA ascii\n")); },
+               {"ascii.pcd", "truncated PCD file"});
+  expect_error([&] { mereo::io::read(write("type.pcd", "FIELDS x y z rgb\nTYPE F F F Q\nSIZE 4 4 4 4\n" + dims)); },
+               {"type.pcd", "TYPE 'Q': expected F, U or I"});
+  // text that is not UTF-8 is quoted with \x escapes, so the message stays one valid line
+  expect_error([&] { mereo::io::read(write("latin.pcd", "FOO\xe9 1\n" + xyzrgb)); },
+               {"latin.pcd", "line 2: 'FOO\\xe9 1' is not a header line"});
+}
+
+// Valid but extreme data: coordinates of 1e30 (and the inf they overflow to) are out of any
+// sensor's range and count as missing; the rest of the frame is read, filtered and projected.
+TEST(Pcd, CoordinatesOutOfRangeAreMissing) {
+  const auto dir = scratch("pcd_extreme");
+  const std::string path = (dir / "e.pcd").string();
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 16\nHEIGHT 12\nPOINTS 192\nDATA binary\n";
+    for (int v = 0; v < 12; ++v)
+      for (int u = 0; u < 16; ++u) {
+        const float s = v < 3 ? 1e30f : v == 3 ? 1e-40f : 1.f;  // rows 0-2 huge, row 3 denormal
+        const float p[3] = {s * (u - 7.5f) * 0.01f, s * (v - 5.5f) * 0.01f, s * 1.f};
+        out.write(reinterpret_cast<const char*>(p), sizeof p);
+      }
+  }
+  const auto f = mereo::io::read(path);
+  EXPECT_TRUE(std::isnan(f.depth(0, 5)) && std::isnan(f.depth(2, 5)) && std::isnan(f.depth(3, 5)));
+  EXPECT_FLOAT_EQ(f.depth(4, 5), 1.f);
+  EXPECT_NEAR(f.intrinsics.fx, 100.0, 1e-3);  // fitted to the valid rows only
+  // an all-extreme depth image through the filter: NaN out, no crash (it indexed a table with NaN)
+  mereo::DepthImage d(8, 8, 1e30f);
+  d(0, 0) = std::numeric_limits<float>::infinity();
+  d(1, 1) = 1e-40f;
+  const auto out = mereo::signal::filter_depth(d, {});
+  for (std::size_t i = 0; i < out.pixels(); ++i) EXPECT_TRUE(std::isnan(out.data()[i]));
+}
+
+TEST(PngPair, DepthMustBeOneChannelOf16BitOrFloatAndScalesFinite) {
+  const auto dir = scratch("png_depth_kind");
+  const auto f = make_frame();
+  mereo::io::write_png_pair(dir.string(), "a", f);
+  const std::string depth = (dir / "a_depth.png").string(), color = (dir / "a_rgb.png").string();
+  fs::copy_file(color, dir / "b_rgb.png");
+  fs::copy_file(color, dir / "b_depth.png");  // a colour image as depth
+  expect_error([&] { mereo::io::read((dir / "b_depth.png").string()); },
+               {"b_depth.png", "one channel of 16-bit units or 32-bit float metres", "3 channel(s) of 8-bit"});
+  for (const double scale : {0.0, -1000.0, std::nan(""), HUGE_VAL})
+    expect_error([&] { mereo::io::read_png_pair(color, depth, f.intrinsics, scale); },
+                 {"a_depth.png", "is not a finite positive number of depth units per metre"});
+  mereo::io::ReadOptions o;
+  o.depth_scale = -1;
+  expect_error([&] { mereo::io::open({depth}, o); }, {"--depth-scale", "depth scale -1 is not"});
+  std::ofstream((dir / "intrinsics.json").string()) << R"({"fx": 60, "fy": 61, "cx": 31.5, "cy": 23.5, "depth_scale": 0})";
+  expect_error([&] { mereo::io::read(depth); }, {"intrinsics.json: field 'depth_scale': depth scale 0 is not"});
+  // a tiny scale puts every depth beyond any sensor's range: read, all missing
+  const auto far = mereo::io::read_png_pair(color, depth, f.intrinsics, 1e-30);
+  for (std::size_t i = 0; i < far.depth.pixels(); ++i) EXPECT_TRUE(std::isnan(far.depth.data()[i]));
+}
+
+TEST(Intrinsics, FocalLengthsAndPrincipalPointInRange) {
+  expect_error([] { mereo::Intrinsics::parse("1e300,1e300,319.5,239.5"); },
+               {"fx 1e+300 is not a focal length in pixels (expected 0 < fx <= 100000)"});
+  expect_error([] { mereo::Intrinsics::parse("525,-1,319.5,239.5"); }, {"fy -1 is not a focal length"});
+  auto f = make_frame();
+  f.intrinsics.cx = 5000;
+  expect_error([&] { f.validate(); }, {"the principal point (5000, 23.5) is outside the 64x48 image"});
+}
+
 TEST(Pcd, RealMugScene) {
   const std::string path = kReal + "/pcl/table_scene_mug_stereo_textured.pcd";
   if (!fs::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
@@ -231,6 +327,10 @@ TEST(Tum, AssociatesByTimestampWithPoses) {
   // a pose line with a value missing: the file and its line
   std::ofstream(dir / "groundtruth.txt") << "# tx ty tz qx qy qz qw\n1.001 1 2 3 0 0 0 1\n1.034 1 2 4 0 0 0.7071068\n";
   expect_error([&] { mereo::io::open({dir.string()}, o); }, {"groundtruth.txt:3", "qw"});
+  // a zero quaternion was read as the identity
+  std::ofstream(dir / "groundtruth.txt") << "# tx ty tz qx qy qz qw\n1.001 1 2 3 0 0 0 0\n";
+  expect_error([&] { mereo::io::open({dir.string()}, o); },
+               {"groundtruth.txt:2: the quaternion 0 0 0 0 has norm 0 (expected a unit quaternion"});
 }
 
 TEST(Open, UnknownInputsAreClearErrors) {

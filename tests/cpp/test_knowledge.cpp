@@ -168,6 +168,22 @@ TEST(Models, MistakesNameTheFileTheLineAndTheField) {
   const std::string yaml = error_of([&] { parse_models(kb, "concepts: [\n", "y.yaml"); });
   EXPECT_NE(yaml.find("y.yaml:"), std::string::npos) << yaml;
   EXPECT_NE(error_of([&] { load_models(kb, "/no/such/models.yaml"); }).find("/no/such/models.yaml"), std::string::npos);
+  // one concept twice in a file (the second silently won); a key that is a list (yaml-cpp's
+  // "bad conversion", no file named); a list where a role belongs; Latin-1 text quoted as \xNN
+  const std::string twice = error_of([&] {
+    parse_models(kb, "concepts:\n  - {name: saucer, parent: plate}\n  - {name: saucer, parent: bowl}\n", "t.yaml");
+  });
+  EXPECT_NE(twice.find("t.yaml:3:5: concept 'saucer' is defined twice in this file (first at t.yaml:2:5)"),
+            std::string::npos) << twice;
+  const std::string list_key = error_of([&] { parse_models(kb, "concepts:\n  - name: s\n    [a, b]: 1\n", "l.yaml"); });
+  EXPECT_NE(list_key.find("l.yaml:3:5: field '(a key in a concept)': expected a text, got a list"), std::string::npos)
+      << list_key;
+  const std::string role = error_of([&] {
+    parse_models(kb, "concepts:\n  - name: s\n    constraints:\n      - {predicate: near, parts: [[a], b]}\n", "r.yaml");
+  });
+  EXPECT_NE(role.find("r.yaml:4:35: field 'parts': expected a text, got a list"), std::string::npos) << role;
+  const std::string latin = error_of([&] { parse_models(kb, "concepts:\n  - {name: s, descriptio\xe9: x}\n", "n.yaml"); });
+  EXPECT_NE(latin.find("field 'descriptio\\xe9': unknown field"), std::string::npos) << latin;
 }
 
 // Brute force: sum the joint over every hidden variable (the concept, undecided presences, every

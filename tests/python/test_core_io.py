@@ -54,6 +54,7 @@ def test_png_pair_round_trip_and_size_mismatch(tmp_path):
     small = mereo.Frame()
     small.depth = np.ones((24, 32), np.float32)
     small.color = np.zeros((24, 32, 3), np.uint8)
+    small.intrinsics = mereo.Intrinsics(30, 30, 15.5, 11.5)
     mereo.io.write_png_pair(tmp_path / "small", "0001", small)
     (tmp_path / "0001_depth.png").write_bytes((tmp_path / "small" / "0001_depth.png").read_bytes())
     with pytest.raises(mereo.InputError, match=r"0001_depth.png.*32x24"):

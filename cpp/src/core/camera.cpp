@@ -16,6 +16,23 @@ std::string Intrinsics::to_string() const {
   return s.str();
 }
 
+std::string Intrinsics::problem(int cols, int rows) const {
+  auto num = [](double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  };
+  for (const auto& [name, f] : {std::pair{"fx", fx}, std::pair{"fy", fy}})
+    if (!(f > 0 && f <= kMaxFocal))
+      return std::string(name) + " " + num(f) + " is not a focal length in pixels (expected 0 < " + name +
+             " <= " + num(kMaxFocal) + ")";
+  if (!std::isfinite(cx) || !std::isfinite(cy)) return "the principal point cx, cy must be finite";
+  if (cols > 0 && rows > 0 && !(cx >= 0 && cx <= cols && cy >= 0 && cy <= rows))
+    return "the principal point (" + num(cx) + ", " + num(cy) + ") is outside the " + std::to_string(cols) + "x" +
+           std::to_string(rows) + " image";
+  return {};
+}
+
 Intrinsics Intrinsics::parse(const std::string& text) {
   std::vector<double> v;
   std::stringstream s(text);
@@ -37,7 +54,7 @@ Intrinsics Intrinsics::parse(const std::string& text) {
     throw InputError("intrinsics '" + text + "': expected 4 numbers fx,fy,cx,cy, got " +
                      std::to_string(v.size()));
   Intrinsics K{v[0], v[1], v[2], v[3]};
-  if (!K.valid()) throw InputError("intrinsics '" + text + "': fx and fy must be positive");
+  if (const std::string p = K.problem(); !p.empty()) throw InputError("intrinsics '" + text + "': " + p);
   return K;
 }
 

@@ -11,9 +11,10 @@ std::string size_text(int rows, int cols) {
 }  // namespace
 
 void Frame::validate() const {
-  const std::string where = source.empty() ? std::string("frame ") + id : source;
+  const std::string where = !source.empty() ? source : !id.empty() ? "frame " + id : std::string("the frame");
   if (depth.empty()) throw InputError(where + ": the frame has no depth image");
-  if (!intrinsics.valid()) throw InputError(where + ": intrinsics fx, fy must be positive");
+  if (const std::string p = intrinsics.problem(depth.cols(), depth.rows()); !p.empty())
+    throw InputError(where + ": intrinsics: " + p);
   if (!color.empty() && !color.same_size(depth))
     throw InputError(where + ": colour is " + size_text(color.rows(), color.cols()) +
                      " but depth is " + size_text(depth.rows(), depth.cols()));

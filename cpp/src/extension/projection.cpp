@@ -20,7 +20,7 @@ Cloud back_project(const DepthImage& depth, const Intrinsics& K) {
       float* p = cloud.ptr(v, 0);
       for (int u = 0; u < depth.cols(); ++u, p += 3) {
         const float z = d[u];
-        if (!(z > 0.f)) continue;  // NaN and non-positive stay NaN
+        if (!valid_depth(z)) continue;  // missing and out-of-range depth stay NaN
         p[0] = (float(u) - cx) * z * ifx;
         p[1] = (float(v) - cy) * z * ify;
         p[2] = z;
@@ -40,7 +40,7 @@ DepthImage cloud_depth(const Cloud& cloud) {
   const float* p = cloud.data();
   float* d = depth.data();
   for (std::size_t i = 0; i < depth.pixels(); ++i, p += 3) {
-    if (std::isfinite(p[0]) && std::isfinite(p[1]) && p[2] > 0.f) d[i] = p[2];
+    if (valid_point(p)) d[i] = p[2];
   }
   return depth;
 }
@@ -53,7 +53,7 @@ Intrinsics fit_intrinsics(const Cloud& cloud, double* max_residual_px) {
   for (int v = 0; v < cloud.rows(); ++v) {
     for (int u = 0; u < cloud.cols(); ++u) {
       const float* p = cloud.ptr(v, u);
-      if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && p[2] > 0.f)) continue;
+      if (!valid_point(p)) continue;
       const double a = double(p[0]) / p[2], b = double(p[1]) / p[2];
       Au += Eigen::Vector2d(a, 1) * Eigen::RowVector2d(a, 1);
       bu += Eigen::Vector2d(a, 1) * double(u);
@@ -70,7 +70,7 @@ Intrinsics fit_intrinsics(const Cloud& cloud, double* max_residual_px) {
     for (int v = 0; v < cloud.rows(); ++v)
       for (int u = 0; u < cloud.cols(); ++u) {
         const float* p = cloud.ptr(v, u);
-        if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && p[2] > 0.f)) continue;
+        if (!valid_point(p)) continue;
         worst = std::max({worst, std::abs(K.fx * p[0] / p[2] + K.cx - u),
                           std::abs(K.fy * p[1] / p[2] + K.cy - v)});
       }

@@ -364,7 +364,11 @@ Graph Graph::parse(const std::string& text, const std::string& file) {
   Graph g;
   g.file_ = file;
   std::vector<std::string> chain{file_key(file)};
-  g.read_yaml(text, file, chain);
+  try {
+    g.read_yaml(text, file, chain);
+  } catch (const YAML::Exception& e) {  // a shape the checks in read_yaml did not foresee
+    throw GraphError(file + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
   g.verify();
   return g;
 }

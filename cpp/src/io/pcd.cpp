@@ -1,4 +1,5 @@
 // Organized PCD files through PCL (the only translation unit that includes PCL's io).
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -17,73 +18,144 @@ namespace mereo::io {
 
 namespace {
 
-struct PcdHeader {
-  int width = -1, height = -1;
-  std::size_t points = 0;
-  std::size_t point_size = 0;
-  std::string data;
-  std::size_t data_offset = 0;
-  std::vector<std::string> fields;
+// Limits of a header that mereo reads: an image of at most 2^25 points (8K x 4K), PCL's field
+// sizes and types, and counts far beyond any descriptor's (FPFH has 33).
+constexpr long long kMaxSide = 1 << 16, kMaxPoints = 1LL << 25, kMaxCount = 4096, kMaxFields = 256;
+
+struct PcdField {
+  std::string name;
+  long long size = 0, count = 1;
+  char type = '?';
 };
 
+struct PcdHeader {
+  long long width = -1, height = -1;
+  std::size_t point_size = 0;
+  std::string data;
+  std::vector<PcdField> fields;
+  const PcdField* find(const std::string& name) const {
+    for (const auto& f : fields)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
+};
+
+// One whole-number header value in [lo, hi], or an InputError naming the file, line, key and value.
+long long header_int(const std::string& token, long long lo, long long hi, const std::string& where,
+                     const std::string& expected) {
+  long long v = 0;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+  if (ec != std::errc() || end != token.data() + token.size() || v < lo || v > hi)
+    throw InputError(where + printable(token) + ": expected " + expected);
+  return v;
+}
+
 // Reads and checks the header and the body's size before PCL sees the file, so that a
-// truncated or corrupt file is a clear error and never a read past the end.
+// truncated, corrupt or absurd file is one clear error and never a read past the end or an
+// allocation of the size a corrupt header claims.
 PcdHeader check_pcd(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
   PcdHeader h;
-  std::vector<std::size_t> sizes, counts;
+  std::vector<std::string> sizes, counts, types;
+  long long points = -1;
   std::string line;
   int lineno = 0;
   bool have_data = false;
   while (!have_data && std::getline(in, line)) {
     ++lineno;
     if (lineno > 64 || line.size() > 4096)
-      throw InputError(path + ": not a PCD file (no DATA line in the header)");
+      throw InputError(path + ": not a PCD file (no DATA line in the first 64 lines)");
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line[0] == '#') continue;
+    const std::string where = path + ": line " + std::to_string(lineno) + ": ";
     std::istringstream s(line);
-    std::string key;
+    std::string key, token;
     s >> key;
+    std::vector<std::string> values;
+    while (s >> token) values.push_back(token);
+    auto one = [&]() -> const std::string& {
+      if (values.size() != 1) throw InputError(where + key + " needs one value, got " + std::to_string(values.size()));
+      return values[0];
+    };
     if (key == "FIELDS") {
-      std::string f;
-      while (s >> f) h.fields.push_back(f);
-    } else if (key == "SIZE" || key == "COUNT") {
-      std::size_t v;
-      auto& dst = key == "SIZE" ? sizes : counts;
-      while (s >> v) dst.push_back(v);
+      if (values.empty() || values.size() > kMaxFields)
+        throw InputError(where + "FIELDS needs 1 to " + std::to_string(kMaxFields) + " names");
+      for (const auto& f : values) h.fields.push_back({f});
+    } else if (key == "SIZE") {
+      sizes = values;
+    } else if (key == "COUNT") {
+      counts = values;
+    } else if (key == "TYPE") {
+      types = values;
     } else if (key == "WIDTH") {
-      s >> h.width;
+      h.width = header_int(one(), 1, kMaxSide, where + "WIDTH ", "a whole number from 1 to " + std::to_string(kMaxSide));
     } else if (key == "HEIGHT") {
-      s >> h.height;
+      h.height = header_int(one(), 1, kMaxSide, where + "HEIGHT ", "a whole number from 1 to " + std::to_string(kMaxSide));
     } else if (key == "POINTS") {
-      s >> h.points;
+      points = header_int(one(), 0, kMaxSide * kMaxSide, where + "POINTS ", "a whole number (WIDTH times HEIGHT)");
     } else if (key == "DATA") {
-      s >> h.data;
+      h.data = one();
+      if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed")
+        throw InputError(where + "DATA " + printable(h.data) + ": expected ascii, binary or binary_compressed");
       have_data = true;
-    } else if (key != "VERSION" && key != "TYPE" && key != "VIEWPOINT") {
-      throw InputError(path + ": not a PCD file (line " + std::to_string(lineno) + ": '" +
-                       line.substr(0, 40) + "')");
+    } else if (key != "VERSION" && key != "VIEWPOINT") {
+      throw InputError(path + ": not a PCD file (line " + std::to_string(lineno) + ": " + printable(line) +
+                       " is not a header line, and no DATA line came before it)");
     }
   }
   if (!have_data) throw InputError(path + ": not a PCD file (no DATA line in the header)");
-  if (h.width <= 0 || h.height <= 0 || h.fields.empty() || sizes.size() != h.fields.size())
-    throw InputError(path + ": corrupt PCD header (FIELDS, SIZE, WIDTH or HEIGHT missing)");
-  if (counts.empty()) counts.assign(sizes.size(), 1);
-  if (counts.size() != sizes.size()) throw InputError(path + ": corrupt PCD header (COUNT)");
-  for (std::size_t i = 0; i < sizes.size(); ++i) h.point_size += sizes[i] * counts[i];
-  h.data_offset = static_cast<std::size_t>(in.tellg());
+  if (h.fields.empty()) throw InputError(path + ": corrupt PCD header (no FIELDS line)");
+  if (h.width < 0 || h.height < 0) throw InputError(path + ": corrupt PCD header (no WIDTH or HEIGHT line)");
+  const std::size_t nf = h.fields.size();
+  if (sizes.size() != nf || (!types.empty() && types.size() != nf) || (!counts.empty() && counts.size() != nf))
+    throw InputError(path + ": corrupt PCD header (" + std::to_string(nf) + " FIELDS but " +
+                     std::to_string(sizes.size()) + " SIZE, " + std::to_string(types.size()) + " TYPE and " +
+                     std::to_string(counts.size()) + " COUNT values)");
+  for (std::size_t i = 0; i < nf; ++i) {
+    PcdField& f = h.fields[i];
+    const std::string where = path + ": field " + printable(f.name) + " ";
+    f.size = header_int(sizes[i], 1, 8, where + "SIZE ", "1, 2, 4 or 8");
+    if (f.size == 3 || (f.size > 4 && f.size < 8)) throw InputError(where + "SIZE " + sizes[i] + ": expected 1, 2, 4 or 8");
+    if (!counts.empty()) f.count = header_int(counts[i], 1, kMaxCount, where + "COUNT ", "1 to " + std::to_string(kMaxCount));
+    f.type = types.empty() ? 'F' : types[i].size() == 1 ? types[i][0] : '?';
+    if (f.type != 'F' && f.type != 'U' && f.type != 'I')
+      throw InputError(where + "TYPE " + printable(types[i]) + ": expected F, U or I");
+    if (f.type == 'F' && f.size != 4 && f.size != 8)
+      throw InputError(where + "is a float (TYPE F) of SIZE " + sizes[i] + ": expected 4 or 8");
+    h.point_size += std::size_t(f.size * f.count);
+  }
+  for (const char* name : {"x", "y", "z"}) {
+    const PcdField* f = h.find(name);
+    if (!f) throw InputError(path + ": the PCD file has no x, y, z fields");
+    if (f->type != 'F' || f->size != 4 || f->count != 1)
+      throw InputError(path + ": field " + name + " is not one FLOAT32 (SIZE 4, TYPE F, COUNT 1)");
+  }
+  for (const char* name : {"rgb", "rgba"})
+    if (const PcdField* f = h.find(name); f && (f->size != 4 || f->count != 1))
+      throw InputError(path + ": field " + name + " has SIZE " + std::to_string(f->size) + " COUNT " +
+                       std::to_string(f->count) + ": a packed colour is SIZE 4, COUNT 1");
+  const std::size_t n = std::size_t(h.width) * std::size_t(h.height);
+  if (n > std::size_t(kMaxPoints))
+    throw InputError(path + ": WIDTH " + std::to_string(h.width) + " x HEIGHT " + std::to_string(h.height) +
+                     " is more than " + std::to_string(kMaxPoints) + " points");
+  if (n * h.point_size > (std::size_t(1) << 31))
+    throw InputError(path + ": " + std::to_string(n) + " points of " + std::to_string(h.point_size) +
+                     " bytes each are more than 2 GiB");
+  if (points >= 0 && std::size_t(points) != n)
+    throw InputError(path + ": corrupt PCD header (POINTS " + std::to_string(points) + " but WIDTH x HEIGHT = " +
+                     std::to_string(n) + ")");
+  const std::size_t data_offset = static_cast<std::size_t>(in.tellg());
   in.seekg(0, std::ios::end);
   const std::size_t file_size = static_cast<std::size_t>(in.tellg());
-  const std::size_t n = std::size_t(h.width) * std::size_t(h.height);
-  const std::size_t body = file_size - h.data_offset;
+  const std::size_t body = file_size - data_offset;
   if (h.data == "binary") {
     if (body < n * h.point_size)
       throw InputError(path + ": truncated PCD file (" + std::to_string(body) + " bytes of data, " +
                        std::to_string(n * h.point_size) + " expected)");
   } else if (h.data == "binary_compressed") {
     std::uint32_t sz[2] = {0, 0};
-    in.seekg(static_cast<std::streamoff>(h.data_offset));
+    in.seekg(static_cast<std::streamoff>(data_offset));
     if (body < 8 || !in.read(reinterpret_cast<char*>(sz), 8))
       throw InputError(path + ": truncated PCD file (no compressed data)");
     if (sz[0] > body - 8)
@@ -92,8 +164,12 @@ PcdHeader check_pcd(const std::string& path) {
     if (sz[1] != n * h.point_size)
       throw InputError(path + ": corrupt PCD file (uncompressed size " + std::to_string(sz[1]) +
                        ", " + std::to_string(n * h.point_size) + " expected)");
-  } else if (h.data != "ascii") {
-    throw InputError(path + ": corrupt PCD header (DATA '" + h.data + "')");
+  } else {  // ascii: every value takes at least one character and a separator
+    std::size_t values = 0;
+    for (const auto& f : h.fields) values += std::size_t(f.count);
+    if (body + 1 < n * values * 2)
+      throw InputError(path + ": truncated PCD file (" + std::to_string(body) + " bytes of text for " +
+                       std::to_string(n) + " points of " + std::to_string(values) + " values)");
   }
   return h;
 }
@@ -133,6 +209,13 @@ Frame read_pcd(const std::string& path, const ReadOptions& options) {
       flabel->datatype != pcl::PCLPointField::INT32)
     flabel = nullptr;
 
+  // what PCL read must be what the header promised (every read below stays inside a point)
+  const std::size_t need = std::size_t(blob.row_step) * blob.height;
+  bool fits = blob.width == std::uint32_t(header.width) && blob.height == std::uint32_t(header.height) &&
+              blob.data.size() >= need && std::size_t(blob.point_step) * blob.width <= blob.row_step;
+  for (const auto* f : {fx, fy, fz, frgb, flabel})
+    if (f && std::size_t(f->offset) + 4 > blob.point_step) fits = false;
+  if (!fits) throw InputError(path + ": corrupt PCD file (its data do not match its header)");
   const int rows = int(blob.height), cols = int(blob.width);
   Frame frame;
   frame.source = path;
@@ -148,7 +231,7 @@ Frame read_pcd(const std::string& path, const ReadOptions& options) {
       std::memcpy(&xyz[0], pt + fx->offset, 4);
       std::memcpy(&xyz[1], pt + fy->offset, 4);
       std::memcpy(&xyz[2], pt + fz->offset, 4);
-      if (std::isfinite(xyz[0]) && std::isfinite(xyz[1]) && std::isfinite(xyz[2]) && xyz[2] > 0) {
+      if (valid_point(xyz)) {
         float* p = frame.cloud.ptr(v, u);
         p[0] = xyz[0], p[1] = xyz[1], p[2] = xyz[2];
       }
@@ -165,10 +248,16 @@ Frame read_pcd(const std::string& path, const ReadOptions& options) {
   if (options.intrinsics) {
     frame.intrinsics = *options.intrinsics;
   } else {
-    try {
-      frame.intrinsics = extension::fit_intrinsics(frame.cloud);
-    } catch (const InputError& e) {
-      throw InputError(path + ": " + e.what());
+    std::size_t valid = 0;
+    for (std::size_t i = 0; i < frame.depth.pixels() && valid < 10; ++i) valid += frame.depth.data()[i] > 0.f;
+    if (valid < 10) {  // nothing measured (all NaN or out of range): a frame that yields an empty result
+      frame.intrinsics = {525.0 * cols / 640.0, 525.0 * cols / 640.0, (cols - 1) / 2.0, (rows - 1) / 2.0};
+    } else {
+      try {
+        frame.intrinsics = extension::fit_intrinsics(frame.cloud);
+      } catch (const InputError& e) {
+        throw InputError(path + ": " + e.what());
+      }
     }
   }
   frame.validate();

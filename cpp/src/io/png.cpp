@@ -57,9 +57,15 @@ float depth_metres(std::uint16_t v, DepthFormat format, float inv_scale) {
 
 Frame read_png_pair(const std::string& color_path, const std::string& depth_path,
                     const Intrinsics& intrinsics, double depth_scale, DepthFormat format) {
-  if (!(depth_scale > 0)) throw InputError(depth_path + ": the depth scale must be positive");
+  checked_depth_scale(depth_scale, depth_path);
   const cv::Mat bgr = read_image(color_path, cv::IMREAD_COLOR);
-  const cv::Mat raw = read_image(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
+  const cv::Mat raw = read_image(depth_path, cv::IMREAD_UNCHANGED);
+  // depth is one channel of 16-bit units or 32-bit float metres; an 8-bit or colour image is
+  // most likely a visualisation of depth, whose values are not distances
+  if (raw.channels() != 1 || (raw.depth() != CV_16U && raw.depth() != CV_32F))
+    throw InputError(depth_path + ": a depth image must have one channel of 16-bit units or 32-bit float metres, "
+                     "this one has " + std::to_string(raw.channels()) + " channel(s) of " +
+                     (raw.depth() == CV_8U ? "8-bit" : raw.depth() == CV_16U ? "16-bit" : "other") + " values");
   if (bgr.size() != raw.size())
     throw InputError(depth_path + ": depth is " + std::to_string(raw.cols) + "x" +
                      std::to_string(raw.rows) + " but colour " + color_path + " is " +
@@ -78,15 +84,9 @@ Frame read_png_pair(const std::string& color_path, const std::string& depth_path
       float z;
       switch (raw.depth()) {
         case CV_16U: z = depth_metres(raw.at<std::uint16_t>(v, u), format, inv); break;
-        case CV_8U:
-          if (format != DepthFormat::Units) throw InputError(depth_path + ": a SUN3D or NYU depth image is 16-bit");
-          z = raw.at<std::uint8_t>(v, u) * inv;
-          break;
-        case CV_32F: z = raw.at<float>(v, u); break;  // float depth is in metres already
-        default:
-          throw InputError(depth_path + ": unsupported depth image type (need 16-bit or float)");
+        default: z = raw.at<float>(v, u); break;  // float depth is in metres already
       }
-      if (z > 0.f && std::isfinite(z)) d[u] = z;
+      if (valid_depth(z)) d[u] = z;
     }
   }
   frame.validate();
@@ -175,8 +175,9 @@ Intrinsics read_intrinsics(const std::string& text_or_path, double* depth_scale)
   } else {
     K = {number("fx"), number("fy"), number("cx"), number("cy")};
   }
-  if (!K.valid()) throw InputError(text_or_path + ": fx and fy must be positive");
-  if (depth_scale && j.contains("depth_scale")) *depth_scale = number("depth_scale");
+  if (const std::string p = K.problem(); !p.empty()) throw InputError(text_or_path + ": " + p);
+  if (depth_scale && j.contains("depth_scale"))
+    *depth_scale = checked_depth_scale(number("depth_scale"), text_or_path + ": field 'depth_scale'");
   return K;
 }
 

@@ -173,8 +173,17 @@ void open_tum(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
       if (!(s >> tx >> ty >> tz >> qx >> qy >> qz >> qw))
         throw InputError((dir / "groundtruth.txt").string() + ":" + std::to_string(g->line) +
                          ": expected 'timestamp tx ty tz qx qy qz qw'");
+      const Eigen::Quaterniond q(qw, qx, qy, qz);
+      std::ostringstream bad;
+      if (!(std::abs(q.norm() - 1) <= 1e-2))
+        bad << "the quaternion " << qx << " " << qy << " " << qz << " " << qw << " has norm " << q.norm()
+            << " (expected a unit quaternion, within 0.01)";
+      else if (!Eigen::Vector3d(tx, ty, tz).allFinite())
+        bad << "the translation " << tx << " " << ty << " " << tz << " is not finite";
+      if (!bad.str().empty())
+        throw InputError((dir / "groundtruth.txt").string() + ":" + std::to_string(g->line) + ": " + bad.str());
       Pose P = Pose::Identity();
-      P.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
+      P.linear() = q.normalized().toRotationMatrix();
       P.translation() = Eigen::Vector3d(tx, ty, tz);
       pose = P;
     }
@@ -266,6 +275,7 @@ void open_synthetic(Sequence& seq, const std::string& input, const ReadOptions& 
 
 Sequence open(const std::vector<std::string>& inputs, const ReadOptions& options) {
   if (inputs.empty()) throw InputError("no input given");
+  if (options.depth_scale != 0) checked_depth_scale(options.depth_scale, "depth_scale (--depth-scale)");  // (0: not given)
   Sequence seq;
   for (const auto& input : inputs) {
     if (input.rfind("synthetic:", 0) == 0) {

@@ -2,6 +2,7 @@
 #include "mereo/knowledge/model_file.hpp"
 
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -19,13 +20,18 @@ struct Reader {
     return file + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1);
   }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& field, const std::string& what) const {
-    throw InputError(at(n) + ": field '" + field + "': " + what);
+    throw InputError(at(n) + ": field " + printable(field) + ": " + what);
+  }
+  /// A scalar's text (a key, a role, a name); a list or mapping where text belongs is named.
+  std::string scalar(const YAML::Node& n, const std::string& field) const {
+    if (!n.IsScalar()) fail(n, field, n.IsSequence() ? "expected a text, got a list" : "expected a text, got a mapping");
+    return n.Scalar();
   }
   /// Rejects keys outside `allowed`, naming the misspelt one and the allowed ones.
   void check_keys(const YAML::Node& map, const std::set<std::string>& allowed, const std::string& what) const {
     if (!map.IsMap()) throw InputError(at(map) + ": " + what + ": expected a mapping");
     for (const auto& kv : map) {
-      const std::string key = kv.first.as<std::string>();
+      const std::string key = scalar(kv.first, "(a key in " + what + ")");
       if (!allowed.count(key)) {
         std::string known;
         for (const auto& k : allowed) known += (known.empty() ? "" : ", ") + k;
@@ -39,14 +45,13 @@ struct Reader {
       if (required) throw InputError(at(map) + ": field '" + key + "': missing");
       return {};
     }
-    if (!n.IsScalar()) fail(n, key, "expected a text");
-    return n.as<std::string>();
+    return scalar(n, key);
   }
   double number(const YAML::Node& n, const std::string& key) const {
     try {
       return n.as<double>();
     } catch (const YAML::Exception&) {
-      fail(n, key, "expected a number, got '" + (n.IsScalar() ? n.as<std::string>() : std::string("a list")) + "'");
+      fail(n, key, "expected a number, got " + (n.IsScalar() ? printable(n.Scalar()) : std::string("a list or mapping")));
     }
   }
   bool flag(const YAML::Node& n, const std::string& key) const {
@@ -79,7 +84,7 @@ struct Reader {
       const std::string d = text(n, "detail");
       if (d == "coarse") p.detail = Detail::Coarse;
       else if (d == "fine") p.detail = Detail::Fine;
-      else fail(n["detail"], "detail", "expected coarse or fine, got '" + d + "'");
+      else fail(n["detail"], "detail", "expected coarse or fine, got " + printable(d));
     }
     return p;
   }
@@ -118,9 +123,9 @@ struct Reader {
     const YAML::Node parts = n["parts"];
     if (!parts) throw InputError(at(n) + ": field 'parts': missing");
     if (!parts.IsSequence()) fail(parts, "parts", "expected a list of roles");
-    for (const auto& r : parts) c.parts.push_back(r.as<std::string>());
+    for (const auto& r : parts) c.parts.push_back(scalar(r, "parts"));
     for (const auto& kv : n) {
-      const std::string key = kv.first.as<std::string>();
+      const std::string key = scalar(kv.first, "(a key in a constraint)");
       if (key == "predicate" || key == "parts") continue;
       c.params[key] = number(kv.second, key);  // names are checked against the predicate later
     }
@@ -149,7 +154,7 @@ struct Reader {
         Modality mod;
         mod.name = text(m, "name");
         if (!m["parts"] || !m["parts"].IsSequence()) fail(m, "parts", "expected a list of roles");
-        for (const auto& r : m["parts"]) mod.parts.push_back(r.as<std::string>());
+        for (const auto& r : m["parts"]) mod.parts.push_back(scalar(r, "parts"));
         c.modalities.push_back(mod);
       }
     if (const YAML::Node b = n["bayes"]) {
@@ -173,8 +178,8 @@ void parse_models(KnowledgeBase& kb, const std::string& yaml_text, const std::st
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(file_name + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw InputError(file_name + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + printable(e.msg, 200));
   }
   const Reader r{file_name};
   if (!root || !root.IsMap()) throw InputError(file_name + ": expected a mapping with 'concepts'");
@@ -182,7 +187,18 @@ void parse_models(KnowledgeBase& kb, const std::string& yaml_text, const std::st
   const YAML::Node list = root["concepts"];
   if (!list || !list.IsSequence()) throw InputError(file_name + ": field 'concepts': expected a list");
   KnowledgeBase next = kb;
-  for (const auto& n : list) next.add(r.concept_(n));
+  std::map<std::string, std::string> defined;  // name -> where, in this file
+  try {
+    for (const auto& n : list) {
+      Concept c = r.concept_(n);
+      if (const auto [it, fresh] = defined.emplace(c.name, c.origin); !fresh)
+        throw InputError(c.origin + ": concept " + printable(c.name) + " is defined twice in this file (first at " +
+                         it->second + ")");
+      next.add(std::move(c));
+    }
+  } catch (const YAML::Exception& e) {  // a shape the checks above did not foresee
+    throw InputError(file_name + ":" + std::to_string(e.mark.line + 1) + ": " + printable(e.msg, 200));
+  }
   next.validate();  // errors carry the origins (file:line:column) recorded above
   kb = std::move(next);
 }

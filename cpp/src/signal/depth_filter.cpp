@@ -37,7 +37,7 @@ DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
       const int v0 = std::max(0, v - r), v1 = std::min(H - 1, v + r);
       for (int u = 0; u < W; ++u) {
         const float z = depth(v, u);
-        if (!(z > 0.f)) continue;
+        if (!valid_depth(z)) continue;  // missing or out of any sensor's range: stays NaN
         const float sr = sd * z * z, inv = kScale * 0.5f / (sr * sr), t = cut * z;
         const int u0 = std::max(0, u - r), u1 = std::min(W - 1, u + r);
         float sw = 0.f, sz = 0.f;
@@ -47,8 +47,9 @@ DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
           for (int uu = u0; uu <= u1; ++uu) {
             const float q = row[uu];
             const float dz = q - z;
-            if (!(q > 0.f) || std::abs(dz) > t) continue;
-            const int bin = int(std::min(dz * dz * inv, float(kSteps)));
+            if (!valid_depth(q) || std::abs(dz) > t) continue;
+            const float x = dz * dz * inv;
+            const int bin = x < float(kSteps) ? int(x) : kSteps;  // NaN or beyond the table: weight 0
             const float w = wrow[uu - u] * range_lut[bin];
             sw += w;
             sz += w * q;

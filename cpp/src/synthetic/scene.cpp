@@ -688,10 +688,11 @@ bool add_freeform(Scene& scene, Placer& placer, Rng& rng, int kind) {
 }
 
 void check_options(const SceneOptions& o) {
-  if (o.width <= 0 || o.height <= 0)
-    throw InputError("synthetic: image size must be positive (width " + std::to_string(o.width) +
+  if (o.width <= 0 || o.height <= 0 || o.width > 8192 || o.height > 8192)
+    throw InputError("synthetic: image size must be 1 to 8192 pixels each way (width " + std::to_string(o.width) +
                      ", height " + std::to_string(o.height) + ")");
-  if (!o.intrinsics.valid()) throw InputError("synthetic: intrinsics fx, fy must be positive");
+  if (const std::string p = o.intrinsics.problem(o.width, o.height); !p.empty())
+    throw InputError("synthetic: intrinsics: " + p);
   if (o.min_objects < 0 || o.max_objects < o.min_objects)
     throw InputError("synthetic: need 0 <= min_objects <= max_objects (got " +
                      std::to_string(o.min_objects) + ", " + std::to_string(o.max_objects) + ")");

@@ -16,7 +16,14 @@ struct Intrinsics {
   double cx = 319.5;
   double cy = 239.5;
 
-  bool valid() const { return fx > 0 && fy > 0; }
+  /// The largest focal length taken, in pixels (a 0.0006 degree pixel: no camera mereo serves).
+  static constexpr double kMaxFocal = 1e5;
+  /// Focal lengths finite, positive and at most kMaxFocal; principal point finite.
+  bool valid() const { return problem().empty(); }
+  /// What is wrong with these intrinsics for a cols x rows image ("" when nothing; with cols and
+  /// rows 0 the principal point is only checked to be finite): focal lengths as valid() says, the
+  /// principal point inside the image.
+  std::string problem(int cols = 0, int rows = 0) const;
   /// The pixel (u, v) a camera-frame point projects to, rounded; `x.z()` must be positive.
   Eigen::Vector2i pixel(const Eigen::Vector3d& x) const {
     return {int(std::lround(fx * x.x() / x.z() + cx)), int(std::lround(fy * x.y() / x.z() + cy))};
@@ -28,7 +35,7 @@ struct Intrinsics {
   }
   /// "fx,fy,cx,cy", the form the command line takes.
   std::string to_string() const;
-  /// Parses "fx,fy,cx,cy"; throws std::invalid_argument naming the text on a bad value.
+  /// Parses "fx,fy,cx,cy"; throws InputError naming the text on a bad value.
   static Intrinsics parse(const std::string& text);
   /// The nominal Kinect / PrimeSense VGA intrinsics (525, 525, 319.5, 239.5).
   static Intrinsics kinect_vga() { return {}; }

@@ -76,9 +76,15 @@ using ColorImage = Image<std::uint8_t, 3>;
 using DepthImage = Image<float, 1>;
 /// Organized point cloud: XYZ in metres per pixel, camera frame, NaN where missing.
 using Cloud = Image<float, 3>;
-/// A measured point of a Cloud (a pointer to its x, y, z): finite and in front of the camera.
+/// The range any depth sensor measures, in metres: values outside (0.1 mm, 1 km), NaN, infinite
+/// or denormal, count as missing, so extreme data never reaches an algorithm's arithmetic.
+inline constexpr float kMinRange = 1e-4f, kMaxRange = 1e3f;
+/// A measured depth: within the sensor range.
+inline bool valid_depth(float z) { return z >= kMinRange && z <= kMaxRange; }
+/// A measured point of a Cloud (a pointer to its x, y, z): in front of the camera, every
+/// coordinate within the sensor range (NaN fails every comparison).
 inline bool valid_point(const float* p) {
-  return p[2] > 0.f && std::isfinite(p[2]) && std::isfinite(p[0]) && std::isfinite(p[1]);
+  return valid_depth(p[2]) && std::abs(p[0]) <= kMaxRange && std::abs(p[1]) <= kMaxRange;
 }
 /// Per-pixel unit normals, camera frame, oriented towards the camera, NaN where undefined.
 using NormalMap = Image<float, 3>;

@@ -1,5 +1,7 @@
 // Organized PCD files through PCL (the only translation unit that includes PCL's io).
+#include <cerrno>
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -32,6 +34,8 @@ struct PcdHeader {
   long long width = -1, height = -1;
   std::size_t point_size = 0;
   std::string data;
+  std::size_t data_offset = 0;  ///< where the body starts
+  int data_line = 0;            ///< the DATA line's number
   std::vector<PcdField> fields;
   const PcdField* find(const std::string& name) const {
     for (const auto& f : fields)
@@ -96,6 +100,7 @@ PcdHeader check_pcd(const std::string& path) {
       points = header_int(one(), 0, kMaxSide * kMaxSide, where + "POINTS ", "a whole number (WIDTH times HEIGHT)");
     } else if (key == "DATA") {
       h.data = one();
+      h.data_line = lineno;
       if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed")
         throw InputError(where + "DATA " + printable(h.data) + ": expected ascii, binary or binary_compressed");
       have_data = true;
@@ -145,7 +150,7 @@ PcdHeader check_pcd(const std::string& path) {
   if (points >= 0 && std::size_t(points) != n)
     throw InputError(path + ": corrupt PCD header (POINTS " + std::to_string(points) + " but WIDTH x HEIGHT = " +
                      std::to_string(n) + ")");
-  const std::size_t data_offset = static_cast<std::size_t>(in.tellg());
+  const std::size_t data_offset = h.data_offset = static_cast<std::size_t>(in.tellg());
   in.seekg(0, std::ios::end);
   const std::size_t file_size = static_cast<std::size_t>(in.tellg());
   const std::size_t body = file_size - data_offset;
@@ -180,6 +185,91 @@ const pcl::PCLPointField* field(const pcl::PCLPointCloud2& c, const std::string&
   return nullptr;
 }
 
+// The PCL field type of a header field (pcl::PCLPointField's datatype codes).
+std::uint8_t pcl_type(const PcdField& f) {
+  using P = pcl::PCLPointField;
+  if (f.type == 'F') return f.size == 4 ? P::FLOAT32 : P::FLOAT64;
+  const bool u = f.type == 'U';
+  switch (f.size) {
+    case 1: return u ? P::UINT8 : P::INT8;
+    case 2: return u ? P::UINT16 : P::INT16;
+    case 4: return u ? P::UINT32 : P::INT32;
+    default: return u ? P::UINT64 : P::INT64;
+  }
+}
+
+// An ascii body, read here rather than by PCL (whose ascii reader crashed on malformed lines):
+// one point per line, each value parsed as its field's type; any other line is an error that
+// names it.
+pcl::PCLPointCloud2 read_ascii(const std::string& path, const PcdHeader& h) {
+  pcl::PCLPointCloud2 blob;
+  blob.width = std::uint32_t(h.width), blob.height = std::uint32_t(h.height);
+  std::size_t values = 0;
+  for (const auto& f : h.fields) {
+    pcl::PCLPointField pf;
+    pf.name = f.name;
+    pf.offset = std::uint32_t(blob.point_step);
+    pf.datatype = pcl_type(f);
+    pf.count = std::uint32_t(f.count);
+    blob.fields.push_back(pf);
+    blob.point_step += std::uint32_t(f.size * f.count);
+    values += std::size_t(f.count);
+  }
+  blob.row_step = blob.point_step * blob.width;
+  const std::size_t n = std::size_t(h.width) * std::size_t(h.height);
+  blob.data.resize(n * blob.point_step);
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(h.data_offset));
+  std::string line;
+  int lineno = h.data_line;
+  std::size_t i = 0;
+  while (i < n && std::getline(in, line)) {
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    const char* c = line.c_str();
+    std::uint8_t* out = blob.data.data() + i * blob.point_step;
+    std::size_t k = 0;
+    for (const auto& f : h.fields)
+      for (long long j = 0; j < f.count; ++j, ++k) {
+        while (*c == ' ' || *c == '\t') ++c;
+        char* end = nullptr;
+        errno = 0;
+        if (f.type == 'F') {
+          const double x = std::strtod(c, &end);
+          if (f.size == 4) {
+            const float y = float(x);
+            std::memcpy(out, &y, 4);
+          } else {
+            std::memcpy(out, &x, 8);
+          }
+        } else if (f.type == 'U') {
+          const unsigned long long x = *c == '-' ? 0 : std::strtoull(c, &end, 10);
+          std::memcpy(out, &x, std::size_t(f.size));  // little-endian: the low bytes
+          if (*c == '-' || (f.size < 8 && x >> (8 * f.size))) end = nullptr;
+        } else {
+          const long long x = std::strtoll(c, &end, 10);
+          std::memcpy(out, &x, std::size_t(f.size));
+          if (f.size < 8 && (x < -(1LL << (8 * f.size - 1)) || x >= (1LL << (8 * f.size - 1)))) end = nullptr;
+        }
+        if (!end || end == c || (*end && *end != ' ' && *end != '\t') || (f.type != 'F' && errno == ERANGE))
+          throw InputError(path + ": line " + std::to_string(lineno) + ": value " + std::to_string(k + 1) + " (" +
+                           printable(f.name) + ") is not a " + (f.type == 'F' ? "number" : "whole number") +
+                           " of " + std::to_string(f.size) + " bytes: " + printable(line));
+        c = end;
+        out += f.size;
+      }
+    while (*c == ' ' || *c == '\t') ++c;
+    if (*c) throw InputError(path + ": line " + std::to_string(lineno) + ": more than the " + std::to_string(values) +
+                             " values of a point: " + printable(line));
+    ++i;
+  }
+  if (i < n)
+    throw InputError(path + ": truncated PCD file (" + std::to_string(i) + " of " + std::to_string(n) +
+                     " points in the ascii data)");
+  return blob;
+}
+
 }  // namespace
 
 Frame read_pcd(const std::string& path, const ReadOptions& options) {
@@ -188,14 +278,18 @@ Frame read_pcd(const std::string& path, const ReadOptions& options) {
   if (header.height == 1)
     throw InputError(path + ": the PCD file is not organized (HEIGHT 1, WIDTH " +
                      std::to_string(header.width) + "); an image-shaped cloud is needed");
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::PCLPointCloud2 blob;
-  Eigen::Vector4f origin;
-  Eigen::Quaternionf orientation;
-  pcl::PCDReader reader;
-  int version = 0;
-  if (reader.read(path, blob, origin, orientation, version) < 0)
-    throw InputError(path + ": corrupt PCD file (PCL could not read it)");
+  if (header.data == "ascii") {
+    blob = read_ascii(path, header);
+  } else {  // binary bodies through PCL (their size checked above)
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+    Eigen::Vector4f origin;
+    Eigen::Quaternionf orientation;
+    pcl::PCDReader reader;
+    int version = 0;
+    if (reader.read(path, blob, origin, orientation, version) < 0)
+      throw InputError(path + ": corrupt PCD file (PCL could not read it)");
+  }
   const auto *fx = field(blob, "x"), *fy = field(blob, "y"), *fz = field(blob, "z");
   if (!fx || !fy || !fz)
     throw InputError(path + ": the PCD file has no x, y, z fields");

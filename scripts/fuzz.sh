@@ -43,16 +43,20 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 [ -f "$BUILD/CMakeCache.txt" ] && generator=()  # the folder keeps the generator it has
 # -O1 with assertions on (no NDEBUG): what fuzzing wants; line tables for the stack traces
 start=$(date +%s)
-CC=clang-14 CXX=clang++-14 nice -n 10 "$cmake_bin" -S . -B "$BUILD" "${generator[@]}" \
+mkdir -p "$BUILD/logs"
+CC=clang-14 CXX=clang++-14 nice -n 10 "$cmake_bin" -S . -B "$BUILD" "${generator[@]}" -Wno-dev \
   -DMEREO_FUZZ=ON -DMEREO_BUILD_TESTS=OFF -DMEREO_BUILD_PYTHON=OFF \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 >/dev/null
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 \
+  >"$BUILD/logs/configure.log" 2>&1 || { cat "$BUILD/logs/configure.log" >&2; exit 1; }
 nice -n 10 "$cmake_bin" --build "$BUILD" -j "$(nproc)" --target "${targets[@]/#/fuzz_}"
 echo "fuzz: built in $(( $(date +%s) - start )) s"
 
+# UBSan's reports with their stacks, as ASan's have
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
 status=0
 for t in "${targets[@]}"; do
   corpus="$BUILD/corpus/$t" crashes="$BUILD/crashes/$t" log="$BUILD/logs/$t.log"
-  rm -rf "$corpus" && mkdir -p "$corpus" "$crashes" "$(dirname "$log")"
+  rm -rf "$corpus" && mkdir -p "$corpus" "$crashes"
   cp tests/fuzz/corpus/"$t"/* "$corpus"/
   dict=()
   [ -f tests/fuzz/"$t".dict ] && dict=(-dict=tests/fuzz/"$t".dict)

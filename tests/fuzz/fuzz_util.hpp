@@ -17,9 +17,10 @@
 namespace mereo::fuzz {
 
 /// A fresh folder under the temporary directory, made on first use and removed at exit
-/// (a crash leaves it behind, with the input that crashed).
+/// (a crash leaves it behind, with the input that crashed). The path is never destroyed: the
+/// exit handler that removes the folder runs after the static destructors.
 inline const std::filesystem::path& scratch_dir() {
-  static const std::filesystem::path dir = [] {
+  static const std::filesystem::path* const dir = [] {
     std::string tmpl = (std::filesystem::temp_directory_path() / "mereo_fuzz_XXXXXX").string();
     if (!mkdtemp(tmpl.data())) {
       std::perror("mkdtemp");
@@ -29,9 +30,9 @@ inline const std::filesystem::path& scratch_dir() {
       std::error_code ec;
       std::filesystem::remove_all(scratch_dir(), ec);
     });
-    return std::filesystem::path(tmpl);
+    return new std::filesystem::path(tmpl);
   }();
-  return dir;
+  return *dir;
 }
 
 /// Writes `size` bytes to `path` (a harness failure, not a finding, aborts with a message).

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's two commands:
 #   ./dev.sh demo   install what is missing, build, and run mereo on the built-in default scene
-#   ./dev.sh test   install what is missing, build, and run every test (ctest and pytest)
+#   ./dev.sh test   install what is missing, build, and run every test (ctest, pytest, a bounded fuzz run)
 set -euo pipefail
 cd "$(dirname "$0")"
 BUILD=build/dev
@@ -25,6 +25,8 @@ case "${1:-}" in
     export PATH="$PWD/.venv/bin:$PATH"
     ctest --test-dir "$BUILD" --output-on-failure -j2
     .venv/bin/python -m pytest -q
+    # the readers fuzzed for a bounded time (a minute per target; MEREO_FUZZ_SECONDS to change)
+    scripts/fuzz.sh --seconds "${MEREO_FUZZ_SECONDS:-60}"
     ;;
   *)
     echo "usage: ./dev.sh demo | test" >&2

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of tests/fuzz with clang (build/fuzz, MEREO_FUZZ=ON: ASan + UBSan)
 # and runs each for N seconds on a fresh copy of its seed corpus (tests/fuzz/corpus/<target>).
-#   scripts/fuzz.sh [--seconds N] [target...]     targets: pcd png_pair model graph (default: all)
+#   scripts/fuzz.sh [--seconds N] [target...]     targets: pcd png_pair model graph python (default: all)
+# (python: tests/fuzz/fuzz_python.py with atheris, in .venv where mereo is installed)
 # Prints the executions per target; exits non-zero when a target crashed, with the path of the
 # input that did (build/fuzz/crashes/<target>/). Reproduce: build/fuzz/tests/fuzz/fuzz_<target> FILE
 # Needs mereo's own Debian packages (scripts/setup.sh); installs clang 14 when it is missing.
@@ -14,15 +15,17 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --seconds=*) seconds="${1#*=}"; shift ;;
-    pcd|png_pair|model|graph) targets+=("$1"); shift ;;
-    *) echo "usage: scripts/fuzz.sh [--seconds N] [pcd|png_pair|model|graph ...]" >&2; exit 2 ;;
+    pcd|png_pair|model|graph|python) targets+=("$1"); shift ;;
+    *) echo "usage: scripts/fuzz.sh [--seconds N] [pcd|png_pair|model|graph|python ...]" >&2; exit 2 ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(pcd png_pair model graph)
+[ ${#targets[@]} -gt 0 ] || targets=(pcd png_pair model graph python)
+cxx_targets=()
+for t in "${targets[@]}"; do [ "$t" = python ] || cxx_targets+=("$t"); done
 
 # the longest input per target: room for a few thousand points or a small image pair, and for
 # YAML files larger than the shipped ones
-declare -A max_len=([pcd]=65536 [png_pair]=65536 [model]=16384 [graph]=8192)
+declare -A max_len=([pcd]=65536 [png_pair]=65536 [model]=16384 [graph]=8192 [python]=16384)
 
 missing=()
 for p in clang-14 libclang-rt-14-dev; do
@@ -48,7 +51,7 @@ CC=clang-14 CXX=clang++-14 nice -n 10 "$cmake_bin" -S . -B "$BUILD" "${generator
   -DMEREO_FUZZ=ON -DMEREO_BUILD_TESTS=OFF -DMEREO_BUILD_PYTHON=OFF \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 \
   >"$BUILD/logs/configure.log" 2>&1 || { cat "$BUILD/logs/configure.log" >&2; exit 1; }
-nice -n 10 "$cmake_bin" --build "$BUILD" -j "$(nproc)" --target "${targets[@]/#/fuzz_}"
+[ ${#cxx_targets[@]} -eq 0 ] || nice -n 10 "$cmake_bin" --build "$BUILD" -j "$(nproc)" --target "${cxx_targets[@]/#/fuzz_}"
 echo "fuzz: built in $(( $(date +%s) - start )) s"
 
 # UBSan's reports with their stacks, as ASan's have
@@ -62,7 +65,9 @@ for t in "${targets[@]}"; do
   [ -f tests/fuzz/"$t".dict ] && dict=(-dict=tests/fuzz/"$t".dict)
   echo "fuzz: fuzz_$t for $seconds s (log: $log)"
   rc=0
-  nice -n 10 "$BUILD/tests/fuzz/fuzz_$t" "$corpus" "${dict[@]}" -max_total_time="$seconds" \
+  exe=("$BUILD/tests/fuzz/fuzz_$t")
+  [ "$t" = python ] && exe=(.venv/bin/python tests/fuzz/fuzz_python.py)
+  nice -n 10 "${exe[@]}" "$corpus" "${dict[@]}" -max_total_time="$seconds" \
     -max_len="${max_len[$t]}" -rss_limit_mb=2048 -timeout=30 -print_final_stats=1 \
     -artifact_prefix="$crashes/" >"$log" 2>&1 || rc=$?
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)

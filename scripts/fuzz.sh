@@ -61,6 +61,8 @@ for t in "${targets[@]}"; do
   corpus="$BUILD/corpus/$t" crashes="$BUILD/crashes/$t" log="$BUILD/logs/$t.log"
   rm -rf "$corpus" && mkdir -p "$corpus" "$crashes"
   cp tests/fuzz/corpus/"$t"/* "$corpus"/
+  # every input that once crashed a reader is replayed first (tests/fuzz/regressions/<target>)
+  [ -d tests/fuzz/regressions/"$t" ] && cp tests/fuzz/regressions/"$t"/* "$corpus"/
   dict=()
   [ -f tests/fuzz/"$t".dict ] && dict=(-dict=tests/fuzz/"$t".dict)
   echo "fuzz: fuzz_$t for $seconds s (log: $log)"

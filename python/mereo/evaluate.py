@@ -44,17 +44,24 @@ def body_part(obj: dict) -> dict | None:
     return parts.get("body") or next(iter(parts.values()), None)
 
 
+def _text(path) -> str:
+    """A file's UTF-8 text; a file that is not names itself and the byte."""
+    try:
+        return Path(path).read_bytes().decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: not UTF-8 text (byte {e.start}: {e.object[e.start:e.start + 1]!r})") from None
+
+
+def _json(text: str, where: str):
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{where}: not a JSON object ({e.msg})") from None
+
+
 def load_results(path) -> list[dict]:
     """The frames of a JSON Lines file written by `mereo recognize`."""
-    out = []
-    with open(path) as f:
-        for n, line in enumerate(f, 1):
-            if line.strip():
-                try:
-                    out.append(json.loads(line))
-                except json.JSONDecodeError as e:
-                    raise ValueError(f"{path}:{n}: not a JSON object ({e.msg})") from None
-    return out
+    return [_json(line, f"{path}:{n}") for n, line in enumerate(_text(path).splitlines(), 1) if line.strip()]
 
 
 def load_truths(specs, options=None) -> list[dict]:
@@ -78,9 +85,9 @@ def load_truths(specs, options=None) -> list[dict]:
             files = sorted(p.glob("*_truth.json"))
             if not files:
                 raise FileNotFoundError(f"{p}: no *_truth.json files")
-            out += [json.loads(f.read_text()) for f in files]
+            out += [_json(_text(f), str(f)) for f in files]
         else:
-            out.append(json.loads(p.read_text()))
+            out.append(_json(_text(p), str(p)))
     return out
 
 

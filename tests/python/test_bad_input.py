@@ -113,3 +113,17 @@ def test_mereo_run(base, case):
         assert one_line(run.stderr, "^mereo-run: error: .*" + case.message), run.stderr[-3000:]
     else:  # the frame failed, the run went on
         assert any(re.search(case.message, e) for e in errors), f"{errors} / {run.stderr[-2000:]}"
+
+
+def test_evaluate_names_a_file_that_is_not_utf8_or_not_json(tmp_path):
+    (tmp_path / "latin.jsonl").write_bytes(b'{"frame": "caf\xe9"}\n')
+    (tmp_path / "junk.jsonl").write_text('{"frame": "0000", "objects": []}\nnonsense\n')
+    (tmp_path / "ok.jsonl").write_text('{"frame": "0000", "objects": []}\n')
+    (tmp_path / "0000_truth.json").write_bytes(b"\xff\xfe{}")
+    for args, message in [(["latin.jsonl", "synthetic:0"], r"latin\.jsonl: not UTF-8 text \(byte 14: b'\\xe9'\)"),
+                          (["junk.jsonl", "synthetic:0"], r"junk\.jsonl:2: not a JSON object"),
+                          (["ok.jsonl", "0000_truth.json"], r"0000_truth\.json: not UTF-8 text \(byte 0")]:
+        run = subprocess.run([sys.executable, "-m", "mereo.cli", "evaluate", *args], capture_output=True, text=True,
+                             cwd=tmp_path)
+        assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+        assert re.fullmatch(r"mereo: error: " + message + r".*\n", run.stderr), run.stderr

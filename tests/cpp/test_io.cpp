@@ -126,6 +126,9 @@ TEST(PngPair, ClearErrors) {
   // A bad intrinsics file names the field.
   std::ofstream((lone / "intrinsics.json").string()) << R"({"fx": 30, "fy": "thirty", "cx": 16, "cy": 12})";
   expect_error([&] { mereo::io::read(lone.string()); }, {"intrinsics.json", "'fy'"});
+  // a number beyond a double (nlohmann's out_of_range escaped, found by the fuzzer)
+  std::ofstream((lone / "intrinsics.json").string()) << R"({"fx": 8.0E0077735347949794, "fy": 30, "cx": 16, "cy": 12})";
+  expect_error([&] { mereo::io::read(lone.string()); }, {"intrinsics.json: not valid JSON (a number out of range)"});
 }
 
 TEST(Pcd, WriteReadRoundTripWithLabels) {

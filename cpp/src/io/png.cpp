@@ -147,9 +147,11 @@ Intrinsics read_intrinsics(const std::string& text_or_path, double* depth_scale)
   nlohmann::json j;
   try {
     in >> j;
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number beyond a double (out_of_range)
     if (const auto K = matrix_text(); K && K->valid()) return *K;
-    throw InputError(text_or_path + ": not valid JSON (byte " + std::to_string(e.byte) + ") nor a 3x3 camera matrix");
+    const auto* p = dynamic_cast<const nlohmann::json::parse_error*>(&e);
+    throw InputError(text_or_path + ": not valid JSON (" + (p ? "byte " + std::to_string(p->byte) : std::string("a number out of range")) +
+                     ") nor a 3x3 camera matrix");
   }
   if (!j.is_object())
     if (const auto K = matrix_text(); K && K->valid()) return *K;

@@ -27,9 +27,7 @@ targets=(mereo-run)
 for f in tests/cpp/test_*.cpp; do targets+=("$(basename "$f" .cpp)"); done
 $NICE cmake --build "$BUILD" --target "${targets[@]}" -j2
 
-# verify_asan_link_order=0: the consumer_find_package test links the (instrumented) shared
-# library into a program built without the sanitizer, so libasan is not first in its load order.
-export ASAN_OPTIONS="detect_leaks=1:check_initialization_order=1:strict_string_checks=1:verify_asan_link_order=0"
+export ASAN_OPTIONS="detect_leaks=1:check_initialization_order=1:strict_string_checks=1"
 export LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$ROOT/tests/ubsan.supp"
 $NICE ctest --test-dir "$BUILD" --output-on-failure -j2 -E '_quick$' "$@"

@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # Runs the C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer:
 #   scripts/asan.sh [ctest arguments, e.g. -R GraphRun]
-# (from scratch about 45 minutes on 2 cores, the tests about 15 more; not part of ./dev.sh test)
+# (from scratch about 40 minutes on 2 cores, the tests about 17 more; not part of ./dev.sh test)
 # It builds the library, mereo-run and the GoogleTest executables with -DMEREO_SANITIZE=address
 # (build/asan; the benchmarks are not built and their *_quick tests not run) and runs the ctest
 # suite. Any report fails the run:
 # - ASan stops at its first error (its default) and LeakSanitizer reports leaks at exit; both exit
 #   non-zero, so the test fails.
-# - UBSan would only print and go on: halt_on_error=1 makes it exit non-zero too. (The runtime
-#   option rather than -fno-sanitize-recover=undefined, so that ubsan.supp still applies.)
+# - UBSan (GCC's -fsanitize=undefined, recoverable) would only print and go on: halt_on_error=1
+#   makes it exit non-zero too. A runtime option rather than -fno-sanitize-recover=undefined: no
+#   rebuild to change it, and the suppressions apply as usual.
 # The suppressions are for third-party code only, each with its reason: tests/lsan.supp (leaks
-# in PCL, OpenCV, ... globals) and tests/ubsan.supp (oneTBB's flow graph trips the vptr check in
-# its own header). Tests that measure memory growth widen their bound when built with ASan
-# (MEREO_TEST_ASAN in their source).
+# in third-party globals; none needed so far) and tests/ubsan.supp (oneTBB's flow graph trips
+# the vptr check in its own header; a suppression of that header only, not -fno-sanitize=vptr).
+# Tests that measure memory growth widen their bound when built with ASan (MEREO_TEST_ASAN in
+# their source).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD

@@ -80,6 +80,13 @@ def _parse_seed(text: str) -> int:
     return int(text[len("synthetic:"):])
 
 
+def _seed(text: str) -> int:
+    """--seed: a non-negative whole number (argparse names the option on a ValueError)."""
+    if not text.isdigit():
+        raise ValueError(text)
+    return int(text)
+
+
 def _write_synthetic(sf, out: Path, name: str) -> None:
     """Colour/depth pair, clean depth, labels, normals and the ground-truth JSON of one frame."""
     io.write_png_pair(out, name, sf.frame, 5000.0)
@@ -327,7 +334,7 @@ def build_parser() -> argparse.ArgumentParser:
     scene_flags = _scene_flags
 
     d = sub.add_parser("demo", help="render the default scene and show what is in it")
-    d.add_argument("--seed", type=int, default=0)
+    d.add_argument("--seed", type=_seed, default=0, help="the scene's seed, a non-negative whole number")
     d.add_argument("--out", default="out/demo")
     scene_flags(d)
     d.set_defaults(run=cmd_demo)

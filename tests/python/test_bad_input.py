@@ -127,3 +127,15 @@ def test_evaluate_names_a_file_that_is_not_utf8_or_not_json(tmp_path):
                              cwd=tmp_path)
         assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
         assert re.fullmatch(r"mereo: error: " + message + r".*\n", run.stderr), run.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["demo", "--seed", "-1"], r"argument --seed: invalid _seed value: '-1'"),
+    (["render", "synthetic:0", "--frames", "-1", "--out", "r"], r"--frames -1: must be at least 1"),
+    (["recognize", "synthetic:0", "--frames", "0"], r"synthetic:0: the number of frames must be at least 1"),
+    (["recognize", "synthetic:0", "--depth-scale", "abc"], r"argument --depth-scale: invalid float value: 'abc'"),
+])
+def test_cli_option_values_are_one_line(tmp_path, args, message):
+    run = subprocess.run([sys.executable, "-m", "mereo.cli", *args], capture_output=True, text=True, cwd=tmp_path)
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+    assert re.search(message, run.stderr.strip().splitlines()[-1]), run.stderr

@@ -123,6 +123,15 @@ TEST(PngPair, ClearErrors) {
   mereo::io::ReadOptions o;
   o.intrinsics = mereo::Intrinsics{30, 30, 16, 12};
   EXPECT_EQ(mereo::io::read(lone.string(), o).cols(), 32);
+  // an image whose header claims more than 2^25 pixels (OpenCV allocated 2.3 GB for the fuzzer's
+  // PPM before decoding), and a PNM header that is not two numbers
+  std::ofstream((lone / "b_rgb.ppm").string(), std::ios::binary) << "P6\n100000 100000\n255\n" << std::string(64, 'x');
+  fs::remove(lone / "b_rgb.png");
+  expect_error([&] { mereo::io::read(lone.string(), o); }, {"b_rgb.ppm: the image's header says 100000x100000 pixels"});
+  std::ofstream((lone / "b_rgb.ppm").string(), std::ios::binary) << "P6\n8888z88831 1\n255\n";
+  expect_error([&] { mereo::io::read(lone.string(), o); }, {"b_rgb.ppm: cannot decode the image (corrupt header)"});
+  fs::copy_file(dir / "small" / "a_rgb.png", lone / "b_rgb.png");
+  fs::remove(lone / "b_rgb.ppm");
   // A bad intrinsics file names the field.
   std::ofstream((lone / "intrinsics.json").string()) << R"({"fx": 30, "fy": "thirty", "cx": 16, "cy": 12})";
   expect_error([&] { mereo::io::read(lone.string()); }, {"intrinsics.json", "'fy'"});

@@ -1,5 +1,7 @@
 // Colour/depth image pairs through OpenCV's imgcodecs.
+#include <algorithm>
 #include <cmath>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -19,15 +21,68 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The most pixels an image may have (as for PCD files: 8K x 4K).
+constexpr long long kMaxPixels = 1LL << 25;
+
+/// Width and height from the header of a PNG, PNM (PPM, PGM) or JPEG file (0, 0 for any other
+/// format, or a header too short to tell; -1, -1 for a corrupt one: a PNG without IHDR first, a
+/// PNM header that is not two numbers). OpenCV allocates what a header claims before it
+/// decodes (up to 2^30 pixels, a limit fixed when it loads): a corrupt PPM header took 2.3 GB
+/// under the fuzzer.
+std::pair<long long, long long> header_size(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(std::size_t(in.gcount()));
+  const auto* b = reinterpret_cast<const unsigned char*>(head.data());
+  auto be = [&](std::size_t i, int n) {
+    long long v = 0;
+    for (int k = 0; k < n; ++k) v = (v << 8) | b[i + k];
+    return v;
+  };
+  if (head.size() >= 24 && head.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0)  // the IHDR chunk comes first
+    return head.compare(12, 4, "IHDR") == 0 ? std::pair{be(16, 4), be(20, 4)} : std::pair{-1LL, -1LL};
+  if (head.size() >= 3 && head[0] == 'P' && head[1] >= '1' && head[1] <= '6') {  // PNM: P6 W H ...
+    // strictly: whitespace (or # comments) and decimal numbers; OpenCV reads past other bytes
+    std::size_t i = 2;
+    long long dims[2] = {-1, -1};
+    for (long long& v : dims) {
+      while (i < head.size() && (std::isspace(b[i]) || b[i] == '#'))
+        if (b[i] == '#') i = std::min(head.find('\n', i), head.size());
+        else ++i;
+      const std::size_t start = i;
+      for (v = 0; i < head.size() && std::isdigit(b[i]) && v < (1LL << 40); ++i) v = v * 10 + (b[i] - '0');
+      if (i == start || i >= head.size() || !std::isspace(b[i])) return {-1, -1};
+    }
+    return {dims[0], dims[1]};
+  }
+  if (head.size() >= 4 && b[0] == 0xff && b[1] == 0xd8) {  // JPEG: the first frame header (SOFn)
+    for (std::size_t i = 2; i + 9 < head.size();) {
+      if (b[i] != 0xff) break;
+      const int marker = b[i + 1];
+      if (marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc)
+        return {be(i + 7, 2), be(i + 5, 2)};
+      i += 2 + std::size_t(be(i + 2, 2));
+    }
+  }
+  return {0, 0};
+}
+
 cv::Mat read_image(const std::string& path, int flags) {
   require_file(path);
+  const auto [w, h] = header_size(path);
+  if (w < 0) throw InputError(path + ": cannot decode the image (corrupt header)");
+  if (w > kMaxPixels || h > kMaxPixels || w * h > kMaxPixels)  // (each first: no overflow)
+    throw InputError(path + ": the image's header says " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels, more than " + std::to_string(kMaxPixels));
   cv::Mat m;
   try {
     m = cv::imread(path, flags);
   } catch (const cv::Exception&) {
     m.release();
   }
-  if (m.empty()) throw InputError(path + ": cannot decode the image (corrupt or not an image)");
+  if (m.empty())
+    throw InputError(path + ": cannot decode the image (corrupt or not an image)");
   return m;
 }
 

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mereo/core/error.hpp"
+#include "mereo/core/parse.hpp"
 #include "mereo/graph/graph.hpp"
 #include "mereo/io/io.hpp"
 #include "mereo/nodes/builtin.hpp"
@@ -48,15 +49,9 @@ void list_kinds() {
 /// The value of `option` as a number (NaN and inf too: the reader that uses it checks its range),
 /// or an InputError naming the option and value.
 double number(const std::string& option, const std::string& text) {
-  std::size_t used = 0;
-  double x = 0;
-  try {
-    x = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size()) throw InputError(option + " " + printable(text) + ": expected a number");
-  return x;
+  const auto x = parse_number(text);
+  if (!x) throw InputError(option + " " + printable(text) + ": expected a number");
+  return *x;
 }
 
 /// The value of `option` as a whole number in [lo, hi].

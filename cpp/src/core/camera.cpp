@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mereo/core/error.hpp"
+#include "mereo/core/parse.hpp"
 
 namespace mereo {
 
@@ -38,17 +39,10 @@ Intrinsics Intrinsics::parse(const std::string& text) {
   std::stringstream s(text);
   std::string item;
   while (std::getline(s, item, ',')) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
-    if (used == 0 || used != item.size() || !std::isfinite(x))
+    const auto x = parse_number(item);
+    if (!x || !std::isfinite(*x))
       throw InputError("intrinsics '" + text + "': '" + item + "' is not a number (expected fx,fy,cx,cy)");
-    v.push_back(x);
+    v.push_back(*x);
   }
   if (v.size() != 4)
     throw InputError("intrinsics '" + text + "': expected 4 numbers fx,fy,cx,cy, got " +

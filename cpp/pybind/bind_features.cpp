@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "mereo/features/primitives.hpp"
+#include "mereo/features/regions.hpp"
 #include "numpy_view.hpp"
 #include "options.hpp"
 
@@ -15,6 +16,7 @@ using mereo::py_util::from_numpy;
 void bind_features(py::module_& m) {
   namespace ft = mereo::features;
   pu::register_options<ft::DetectOptions>("DetectOptions");
+  pu::register_options<ft::RegionOptions>("RegionOptions");
   m.def("detect_primitives",
         [](py::handle cloud, py::handle normals, py::object roi, py::object color, py::object unfiltered,
            py::kwargs options) {

@@ -2,7 +2,9 @@
 
 A result object (accepted, with a "body") is matched to the ground-truth object whose body
 axis passes within `max_offset` (2 cm) of the result body's centre (a sphere: whose centre is
-within 2 cm), with a radius within `max_radius_error` (1 cm); the nearest such object wins.
+within 2 cm; a free-form region: whose axis passes within 2 cm and half its box's width of the
+box's centre), with a radius
+within `max_radius_error` (1 cm; a region has none); the nearest such object wins.
 Then, per model:
 
 - precision: accepted results of that model matched to a true object of the same model;
@@ -148,28 +150,35 @@ class Evaluation:
 
 
 def _body(parts: list[dict], cls: str = "cylinder"):
+    """A true object's body of class `cls` (a free-form "region" stands for a body of any class)."""
     for p in parts:
-        if p["role"] == "body" and p["class"] == cls:
+        if p["role"] == "body" and (p["class"] == cls or cls == "region"):
             return p
     return None
 
 
 def _match(result_body: dict, truths: list[dict], max_offset: float, max_radius_error: float):
     """The true object whose body is nearest the result's body (a cylinder: its axis passes
-    nearest the result's centre; a sphere: its centre), within limits."""
+    nearest the result's centre; a sphere: its centre; a free-form region: its box's centre
+    near any body's axis, no radius to compare), within limits."""
     sphere = result_body["class"] == "sphere"
+    region = result_body["class"] == "region"
     c = np.asarray(result_body["center" if sphere else "point"])
-    best, best_d = None, max_offset
+    # a region's box holds the visible side only: its centre lies up to half its extent in front
+    # of the axis
+    limit = max_offset + (max(result_body["width"], result_body["thickness"]) / 2 if region else 0)
+    best, best_d = None, math.inf
     for t in truths:
         b = _body(t["parts"], result_body["class"])
-        if b is None:
+        if b is None or (region and b["class"] == "sphere"):
             continue
         cam = b["camera"]
         p, a = np.asarray(cam.get("point", cam.get("center"))), np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
         q = c - p
         d = np.linalg.norm(q) if sphere else np.linalg.norm(q - a * q.dot(a))
         within = sphere or abs(q.dot(a)) <= cam["height"]
-        if d <= best_d and abs(result_body["radius"] - cam["radius"]) <= max_radius_error and within:
+        radius_ok = region or abs(result_body["radius"] - cam["radius"]) <= max_radius_error
+        if d <= min(limit, best_d) and radius_ok and within:
             best, best_d = t, d
     return best, best_d
 
@@ -218,7 +227,7 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
             s.results += 1
             body = body_part(o)
             t = None
-            if body is not None and body["class"] in ("cylinder", "cone", "sphere"):
+            if body is not None and body["class"] in ("cylinder", "cone", "sphere", "region"):
                 t, d = _match(body, objects, max_offset, max_radius_error)
             if t is None:
                 other = _on_other(o, others, max_offset)
@@ -236,7 +245,8 @@ def evaluate(results: list[dict], truths: list[dict], max_offset: float = 0.02,
             s.correct += 1
             cam = _body(t["parts"], body["class"])["camera"]
             s.position_mm.append(1000 * d)
-            s.radius_mm.append(1000 * abs(body["radius"] - cam["radius"]))
+            if "radius" in body:  # (a free-form region has none)
+                s.radius_mm.append(1000 * abs(body["radius"] - cam["radius"]))
             if body["class"] in ("cylinder", "cone"):
                 a = np.asarray(cam["axis"]) / np.linalg.norm(cam["axis"])
                 cosang = abs(float(np.dot(a, np.asarray(body["axis"]) / np.linalg.norm(body["axis"]))))

@@ -13,7 +13,7 @@
     and pitchers (not 'difficult') with a true positive on them / all of those.
 
 Prints one line per frame and the totals, writes the overlays (objects drawn, label boxes in
-grey) to --out. An object's pixels are its parts' inlier pixels (the segments' label image).
+grey) to --out. An object's pixels are its parts' inlier pixels.
 """
 from __future__ import annotations
 
@@ -38,26 +38,35 @@ COMPATIBLE = {"mug": {"mug"}, "cup": {"cup"}, "tapered_cup": {"cup"}, "can": {"c
 RECALL_CLASSES = {"can", "bowl", "bottle", "mug", "pitcher"}
 
 
+class SegmentPixels:
+    """Each segment's pixels as a mask of the frame (segments overlap: a region holds primitives)."""
+
+    def __init__(self, segments, shape):
+        self.shape = shape
+        self.by_id = {s.id: np.asarray(s.pixels, np.int64) for s in segments}
+
+    def of(self, seg_id: int) -> np.ndarray:
+        m = np.zeros(self.shape, bool)
+        m.reshape(-1)[self.by_id.get(seg_id, np.zeros(0, np.int64))] = True
+        return m
+
+
 def run(frame):
-    """The result dict and the segment label image of one frame (tabletop graph, deterministic)."""
-    import mereo
+    """The result dict and the segments' pixels of one frame (tabletop graph, deterministic)."""
     from mereo import recognition
 
     g = recognition.tabletop_graph()
-    r = g.run([frame], keep=["result.result", "primitives.segments"])[0]
+    r = g.run([frame], keep=["result.result", "regions.segments"])[0]
     result = recognition._result(r, "skip")
-    labels = np.full(np.asarray(frame.depth).shape[:2], -1, np.int32)
-    if not r["error"]:
-        h, w = labels.shape
-        labels = mereo.features.label_image(r["outputs"]["primitives.segments"], h, w)
-    return result, labels
+    segments = [] if r["error"] else r["outputs"]["regions.segments"]
+    return result, SegmentPixels(segments, np.asarray(frame.depth).shape[:2])
 
 
-def part_pixels(labels: np.ndarray, part: dict) -> np.ndarray:
-    return labels == part["segment"] if "segment" in part else np.zeros(labels.shape, bool)
+def part_pixels(labels: SegmentPixels, part: dict) -> np.ndarray:
+    return labels.of(part["segment"]) if "segment" in part else np.zeros(labels.shape, bool)
 
 
-def object_pixels(labels: np.ndarray, obj: dict) -> np.ndarray:
+def object_pixels(labels: SegmentPixels, obj: dict) -> np.ndarray:
     m = np.zeros(labels.shape, bool)
     for p in obj["parts"].values():
         m |= part_pixels(labels, p)
@@ -68,7 +77,7 @@ def accepted(result: dict) -> list[dict]:
     return [o for o in result["objects"] if o["accepted"]]
 
 
-def eval_nv(name: str, result: dict, labels: np.ndarray, mask: np.ndarray) -> tuple[bool, str]:
+def eval_nv(name: str, result: dict, labels: SegmentPixels, mask: np.ndarray) -> tuple[bool, str]:
     objs = accepted(result)
     want = NV_EXPECTED[name]
     got = ", ".join(f"{o['model']} {o['score']:.2f}" for o in objs) or "nothing"
@@ -93,7 +102,7 @@ def eval_nv(name: str, result: dict, labels: np.ndarray, mask: np.ndarray) -> tu
     return ok, text
 
 
-def match_posecnn(result: dict, labels: np.ndarray, truth: list[dict]):
+def match_posecnn(result: dict, labels: SegmentPixels, truth: list[dict]):
     """(model, label index or None, share of the object's pixels in that box) per accepted object."""
     out = []
     for o in accepted(result):

@@ -11,6 +11,7 @@
 #include "mereo/extension/projection.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/primitives.hpp"
+#include "mereo/features/regions.hpp"
 #include "mereo/signal/depth_filter.hpp"
 #include "mereo/synthetic/scene.hpp"
 
@@ -388,4 +389,86 @@ TEST(Features, TaperedCupsAreConesWithTheirRadiiAndAxis) {
   EXPECT_LE(upright_as_cones, int(0.1 * upright));
   for (double e : radius_mm) EXPECT_LE(e, 2.0);
   for (double e : axis_deg) EXPECT_LE(e, 2.0);
+}
+
+namespace {
+/// What a camera in front sees of the upright box [-w/2, w/2] x [-t/2, t/2] x [0, h] (world, z up
+/// from the support) and, when cap_h > 0, of a cap of side cap_w on top up to h + cap_h: the
+/// front faces (y = -t/2, -cap_w/2) and the top faces, on a 2 mm grid. The support is z = 0 and
+/// the camera frame is the world shifted 1 m (only the points matter here).
+struct BoxCloud {
+  Cloud cloud;
+  extension::SupportPlane plane;
+  std::vector<int> pixels;
+};
+BoxCloud box_cloud(double w, double t, double h, double cap_w, double cap_h) {
+  std::vector<Eigen::Vector3d> pts;
+  const double step = 0.002;
+  const auto face = [&](double x0, double x1, double y0, double y1, double z0, double z1) {
+    for (double x = x0 + step / 2; x < x1; x += step)
+      for (double y = y0; y <= y1; y += step)
+        for (double z = z0; z <= z1; z += step) pts.emplace_back(x, y, z);
+  };
+  face(-w / 2, w / 2, -t / 2, -t / 2, step / 2, h);   // front
+  face(-w / 2, w / 2, -t / 2 + step, t / 2, h, h);    // top
+  if (cap_h > 0) {
+    face(-cap_w / 2, cap_w / 2, -cap_w / 2, -cap_w / 2, h + step, h + cap_h);  // the cap's front
+    face(-cap_w / 2, cap_w / 2, -cap_w / 2 + step, cap_w / 2, h + cap_h, h + cap_h);
+  }
+  BoxCloud b;
+  b.cloud = Cloud(1, int(pts.size()), std::numeric_limits<float>::quiet_NaN());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    float* p = b.cloud.ptr(0, int(i));
+    p[0] = float(pts[i].x()), p[1] = float(pts[i].y()), p[2] = float(pts[i].z() + 1.0);  // camera frame
+    b.pixels.push_back(int(i));
+  }
+  b.plane.normal = Eigen::Vector3d::UnitZ();
+  b.plane.d = -1.0;
+  b.plane.world_from_camera = Pose(Eigen::Translation3d(0, 0, -1.0));
+  return b;
+}
+}  // namespace
+
+TEST(Regions, AnUprightBoxAndABottleWithACapAreMeasuredAsTheyAre) {
+  // a box 12 x 6 x 15 cm: as wide, thick and tall as it is, standing on the support, no neck
+  const BoxCloud box = box_cloud(0.12, 0.06, 0.15, 0, 0);
+  const auto r = features::describe_region(box.cloud, box.plane, box.pixels);
+  ASSERT_TRUE(r.has_value());
+  ASSERT_TRUE(r->is<shapes::Region>());
+  const auto& g = r->as<shapes::Region>();
+  EXPECT_NEAR(g.width, 0.12, 0.006);  // (the 2nd to 98th percentile of the points)
+  EXPECT_NEAR(g.thickness, 0.06, 0.01);  // (seen on its top face only: fewer points, a wider trim)
+  EXPECT_NEAR(g.height, 0.15, 0.004);
+  EXPECT_NEAR(g.foot, 0.0, 0.005);
+  EXPECT_GT(g.neck, 0.9);
+  EXPECT_NEAR(std::abs(g.width_axis.x()), 1.0, 1e-6);  // the width is along x
+  EXPECT_NEAR(g.point.z(), 1.0 + 0.075, 0.003);        // the box's middle, camera frame
+  EXPECT_EQ(r->pixels.size(), box.pixels.size());
+  EXPECT_NEAR(*r->attribute("slenderness"), g.height / g.width, 1e-9);
+  // the solid box: inside 0, beside it the distance to its side
+  EXPECT_DOUBLE_EQ(g.surface_distance(g.point), 0.0);
+  EXPECT_NEAR(g.surface_distance(g.point + Eigen::Vector3d(g.width / 2 + 0.05, 0, 0)), 0.05, 1e-9);
+  EXPECT_NEAR(g.half_extent_along(Eigen::Vector3d::UnitZ()), g.height / 2, 1e-9);
+
+  // a bottle: a body 8 x 5 x 17 cm and a cap 2 cm across, 5 cm tall: the top sixth is the cap
+  const BoxCloud bottle = box_cloud(0.08, 0.05, 0.17, 0.02, 0.05);
+  const auto b = features::describe_region(bottle.cloud, bottle.plane, bottle.pixels);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_NEAR(b->as<shapes::Region>().height, 0.22, 0.006);
+  EXPECT_LT(b->as<shapes::Region>().neck, 0.35);
+
+  // a flat thing lower than min_height is no region
+  const BoxCloud card = box_cloud(0.1, 0.06, 0.01, 0, 0);
+  EXPECT_FALSE(features::describe_region(card.cloud, card.plane, card.pixels).has_value());
+}
+
+TEST(Regions, ARegionGoesThroughJsonFieldsAndBack) {
+  shapes::Region g;
+  g.point = {0.1, -0.2, 0.9}, g.axis = {0, -1, 0}, g.width_axis = {1, 0, 0};
+  g.width = 0.08, g.thickness = 0.05, g.height = 0.2, g.foot = 0.01, g.neck = 0.3;
+  Segment s(g);
+  Segment t(PrimitiveClass::of<shapes::Region>().make());
+  for (const auto& [name, value] : s.fields()) ASSERT_TRUE(t.set_field(name, value)) << name;
+  for (const char* a : shapes::Region::attributes) EXPECT_EQ(*t.attribute(a), *s.attribute(a)) << a;
+  EXPECT_STREQ(t.class_name(), "region");
 }

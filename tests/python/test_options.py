@@ -18,6 +18,7 @@ NODES = {
     "models": (None, None, {"models", "file"}, set()),
     "match_models": ("MatchOptions", K.recognize, set(), {"min_score"}),
     "interpret": ("InterpretOptions", None, set(), set()),
+    "find_regions": ("RegionOptions", None, set(), set()),
     "report": (None, None, {"track_probability"}, set()),
     "track_objects": ("TrackOptions", None, set(), set()),
     "odometry": ("OdometryOptions", None, {"replace"}, set()),

@@ -111,6 +111,8 @@ struct Candidate {
 /// Sets a segment's pixels, inlier count, visible extent, canonical sign, inward flag and mean
 /// colour and hue (when `color` is given).
 void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color);
+/// A segment's mean colour and hue over its pixels (nothing without a colour image).
+void set_color(Segment& s, const ColorImage* color);
 
 /// The model-driven handle search next to cylinder `body` over the pixels `region` (free ones
 /// count), with the options' HandleOptions (features/handle.hpp): at most `max_count` handles, each

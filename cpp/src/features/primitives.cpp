@@ -79,12 +79,7 @@ std::vector<int> Pixels::component(const Segment& s, int seed, int step, const s
 void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color) {
   std::vector<Eigen::Vector3d> pts;
   pts.reserve(pix.size());
-  Eigen::Vector3f col = Eigen::Vector3f::Zero();
-  for (int i : pix) {
-    pts.push_back(f.p(i));
-    if (color && !color->empty())
-      col += Eigen::Vector3f(color->data()[3 * i], color->data()[3 * i + 1], color->data()[3 * i + 2]) / 255.f;
-  }
+  for (int i : pix) pts.push_back(f.p(i));
   set_extent(s, pts);
   if (s.solid()) {
     int in = 0;
@@ -95,18 +90,24 @@ void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImag
   std::sort(pix.begin(), pix.end());  // (kept sorted: overlaps are binary searches)
   s.inliers = pix.size();
   s.pixels = std::move(pix);
-  if (color && !color->empty() && s.inliers > 0) {
-    s.mean_color = col / float(s.inliers);
-    const float r = s.mean_color.x(), g = s.mean_color.y(), b = s.mean_color.z();
-    const float mx = std::max({r, g, b}), mn = std::min({r, g, b});
-    double h = 0;
-    if (mx > mn) {
-      if (mx == r) h = 60 * std::fmod((g - b) / (mx - mn), 6.f);
-      else if (mx == g) h = 60 * ((b - r) / (mx - mn) + 2);
-      else h = 60 * ((r - g) / (mx - mn) + 4);
-    }
-    s.hue = h < 0 ? h + 360 : h;
+  set_color(s, color);
+}
+
+void set_color(Segment& s, const ColorImage* color) {
+  if (!color || color->empty() || s.pixels.empty()) return;
+  Eigen::Vector3f col = Eigen::Vector3f::Zero();
+  for (int i : s.pixels)
+    col += Eigen::Vector3f(color->data()[3 * i], color->data()[3 * i + 1], color->data()[3 * i + 2]) / 255.f;
+  s.mean_color = col / float(s.pixels.size());
+  const float r = s.mean_color.x(), g = s.mean_color.y(), b = s.mean_color.z();
+  const float mx = std::max({r, g, b}), mn = std::min({r, g, b});
+  double h = 0;
+  if (mx > mn) {
+    if (mx == r) h = 60 * std::fmod((g - b) / (mx - mn), 6.f);
+    else if (mx == g) h = 60 * ((b - r) / (mx - mn) + 2);
+    else h = 60 * ((r - g) / (mx - mn) + 4);
   }
+  s.hue = h < 0 ? h + 360 : h;
 }
 
 }  // namespace detail

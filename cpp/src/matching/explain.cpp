@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "mereo/features/regions.hpp"
+
 namespace mereo::matching {
 namespace {
 
@@ -16,40 +18,13 @@ struct Grid {
     const float* q = cloud.ptr(i / W, i % W);
     return {q[0], q[1], q[2]};
   }
-  bool valid(int i) const { return valid_point(cloud.ptr(i / W, i % W)); }
 };
-
-/// Pixels reachable from `seeds` over 8-neighbours that pass `enter`, without a depth jump.
-template <class Enter>
-std::vector<int> grow(const Grid& g, const std::vector<int>& seeds, double depth_jump, std::vector<int>& mark,
-                      int stamp, Enter enter) {
-  std::vector<int> out, stack;
-  for (int i : seeds)
-    if (mark[std::size_t(i)] != stamp && g.valid(i)) mark[std::size_t(i)] = stamp, stack.push_back(i);
-  while (!stack.empty()) {
-    const int i = stack.back();
-    stack.pop_back();
-    out.push_back(i);
-    const int v = i / g.W, u = i % g.W;
-    const float zi = g.cloud.ptr(v, u)[2];
-    for (int dv = -1; dv <= 1; ++dv)
-      for (int du = -1; du <= 1; ++du) {
-        const int vv = v + dv, uu = u + du;
-        if ((!dv && !du) || vv < 0 || vv >= g.H || uu < 0 || uu >= g.W) continue;
-        const int j = vv * g.W + uu;
-        if (mark[std::size_t(j)] == stamp || !g.valid(j) || !enter(j)) continue;
-        if (std::abs(g.cloud.ptr(vv, uu)[2] - zi) > depth_jump * zi) continue;
-        mark[std::size_t(j)] = stamp;
-        stack.push_back(j);
-      }
-  }
-  return out;
-}
 
 }  // namespace
 
 void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<Segment>& segments,
-                     const Cloud& cloud, const extension::SupportPlane& plane, const InterpretOptions& o) {
+                     const Cloud& cloud, const extension::SupportPlane& plane, const InterpretOptions& o,
+                     const NormalMap* normals) {
   const int H = cloud.rows(), W = cloud.cols();
   if (!plane.roi.same_size(cloud)) return;  // no region of interest: nothing to check against
   const Grid g{cloud, H, W};
@@ -119,7 +94,7 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     const double radius = fp[a].radius, foot = fp[a].foot;
     // reach: what the parts missed beside the object (a handle's root, a rim); but beside its
     // foot is what it stands on (a tin's lid under a jar), not it
-    const auto region = grow(g, pixels[a], o.depth_jump, mark, stamp++, [&](int j) {
+    const auto region = features::connected_region(cloud, pixels[a], o.depth_jump, mark, stamp++, [&](int j) {
       if (owner[std::size_t(j)] == int(a)) return true;
       if (!in_roi(j) || owner[std::size_t(j)] >= 0) return false;
       const Eigen::Vector3d w = T * g.p(j);
@@ -153,12 +128,16 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
 
   if (o.min_unknown_pixels <= 0) return;
   const Eigen::Matrix3d R = T.linear();
+  const bool facing = normals && normals->same_size(cloud);
+  const double min_cos = std::cos(o.max_grazing_deg * M_PI / 180);
+  const auto free = [&](int j) {
+    return in_roi(j) && region_of[std::size_t(j)] < 0 &&
+           (!facing || features::facing_cos(cloud, *normals, j) >= min_cos);
+  };
   for (std::size_t s = 0; s < N; ++s) {
     const int i = int(s);
-    if (!in_roi(i) || region_of[s] >= 0 || mark[s] == stamp) continue;
-    const auto region = grow(g, {i}, o.depth_jump, mark, stamp, [&](int j) {
-      return in_roi(j) && region_of[std::size_t(j)] < 0;
-    });
+    if (mark[s] == stamp || !free(i)) continue;
+    auto region = features::connected_region(cloud, {i}, o.depth_jump, mark, stamp, free);
     if (int(region.size()) < o.min_unknown_pixels) continue;
     RecognizedObject::Region r;
     r.pixels = int(region.size());
@@ -190,6 +169,8 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     r.centroid /= double(region.size());
     r.size = hi - lo;
     r.size.z() = top;
+    std::sort(region.begin(), region.end());
+    r.indices = std::move(region);
     RecognizedObject u;
     u.id = int(objects.size());
     u.model = "unknown";

@@ -11,6 +11,8 @@
 //     - primitives.segments -> interpretation.segments   # optional, the three together: every
 //     - cloud.cloud -> interpretation.cloud              #   accepted object must explain its
 //     - table.plane -> interpretation.plane              #   region; the rest is "unknown"
+//     - normals.normals -> interpretation.normals        # optional: unknown objects that touch
+//                                                        #   are apart at their silhouettes
 #include "mereo/knowledge/model_file.hpp"
 #include "mereo/matching/explain.hpp"
 #include "mereo/matching/interpret.hpp"
@@ -28,7 +30,8 @@ graph::NodeSpec interpret_node() {
               {"models", "ModelSet", "the models they were matched from (the models node)"},
               {"segments", "Segments", "the segments (with cloud and plane: each object must explain its region)", false},
               {"cloud", "Cloud", "the frame's points", false},
-              {"plane", "SupportPlane", "the support plane and its region of interest", false}};
+              {"plane", "SupportPlane", "the support plane and its region of interest", false},
+              {"normals", "NormalMap", "per-pixel normals: silhouettes separate unknown objects that touch", false}};
   s.outputs = {{"objects", "Interpretation", "the accepted objects, then the listed alternatives"}};
   s.options = options_of<matching::InterpretOptions>();
   s.make = [](const graph::Options& o) {
@@ -38,7 +41,8 @@ graph::NodeSpec interpret_node() {
                                          ctx.input<matching::Lattice>("lattice"), io);
       if (ctx.has_input("segments") && ctx.has_input("cloud") && ctx.has_input("plane"))
         matching::explain_regions(objects, ctx.input<std::vector<Segment>>("segments"), ctx.input<Cloud>("cloud"),
-                                  ctx.input<extension::SupportPlane>("plane"), io);
+                                  ctx.input<extension::SupportPlane>("plane"), io,
+                                  ctx.has_input("normals") ? &ctx.input<NormalMap>("normals") : nullptr);
       ctx.output("objects", std::move(objects));
     });
   };

@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'find_regions', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -69,6 +69,22 @@ def filter_depth(**kwargs) -> mereo._mereo.NodeTemplate:
         sigma_depth (float, default 0.004, 1e-05..0.1): range sigma at 1 m, metres (grows with z^2)
         depth_change_factor (float, default 0.02, 0.0001..1): neighbours further than this times z are ignored
     """
+def find_regions(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    The unknown objects of an interpretation as free-form regions, appended to the segments.
+    
+    Inputs:
+        cloud (Cloud): organized XYZ cloud
+        plane (SupportPlane): the support plane
+        segments (Segments): the primitives; the regions follow them
+        objects (Interpretation): an interpretation whose unknown objects carry their regions
+        frame (Frame, optional): the frame of the cloud: the regions' colour
+    Outputs:
+        segments (Segments): the primitives, then one segment of class region per unknown object
+    Options:
+        min_height (float, default 0.02, 0..10): least height of a region above the support, metres
+        neck_share (float, default 0.166667, 0.01..1): the top share of the height measured for the neck
+    """
 def frame_source(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frames of the run (a recorded sequence or a live queue), one per run step.
@@ -86,6 +102,7 @@ def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
         segments (Segments, optional): the segments (with cloud and plane: each object must explain its region)
         cloud (Cloud, optional): the frame's points
         plane (SupportPlane, optional): the support plane and its region of interest
+        normals (NormalMap, optional): per-pixel normals: silhouettes separate unknown objects that touch
     Outputs:
         objects (Interpretation): the accepted objects, then the listed alternatives
     Options:
@@ -96,6 +113,7 @@ def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
         depth_jump (float, default 0.02, 0.001..1): a depth step (times the depth) that separates regions
         reach (float, default 0.02, 0..1): a region's reach beyond its object's extent, metres
         min_unknown_pixels (int, default 800, 0..1e+07): least pixels of an unknown object (0: none)
+        max_grazing_deg (float, default 75, 0..90): with normals: pixels seen more obliquely join no unknown region
     """
 def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     """

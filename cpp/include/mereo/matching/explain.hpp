@@ -5,7 +5,8 @@
 // pixels without a depth jump, over its footprint on the table, not what it stands on) must be
 // mostly its parts' pixels. Two objects do not fill one place: the weaker of two there goes.
 // What no accepted object explains and lies in no accepted object's place is reported as unknown
-// objects with their region and size.
+// objects with their region and size: the free-form regions that models of free-form objects are
+// matched to (features/regions.hpp, the find_regions node).
 #pragma once
 
 #include <vector>
@@ -21,9 +22,11 @@ namespace mereo::matching {
 /// place of an earlier one or do not explain their region (accepted = false, `rejected` says why,
 /// `coverage` set on every accepted one), then appends the unexplained
 /// regions of `plane.roi` as objects of model "unknown" (not accepted, with their `region`).
-/// The thresholds are InterpretOptions' min_coverage, depth_jump, reach and min_unknown_pixels.
+/// The thresholds are InterpretOptions' min_coverage, depth_jump, reach and min_unknown_pixels;
+/// with `normals`, the silhouettes (max_grazing_deg) separate unknown regions that touch.
 /// `cloud` is the frame's organized cloud; pixel indices are row-major. Deterministic.
 void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<Segment>& segments,
-                     const Cloud& cloud, const extension::SupportPlane& plane, const InterpretOptions& options = {});
+                     const Cloud& cloud, const extension::SupportPlane& plane, const InterpretOptions& options = {},
+                     const NormalMap* normals = nullptr);
 
 }  // namespace mereo::matching

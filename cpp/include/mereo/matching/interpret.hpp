@@ -36,6 +36,7 @@ struct RecognizedObject {
     std::array<int, 4> box{};      ///< u0, v0, u1, v1 (inclusive)
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< camera frame, metres
     Eigen::Vector3d size = Eigen::Vector3d::Zero();      ///< extent along the table's x, y and up
+    std::vector<int> indices;      ///< its pixels, v * width + u (not in the JSON: find_regions reads them)
   };
   std::optional<Region> region;
 };
@@ -49,6 +50,9 @@ struct InterpretOptions {
   double depth_jump = 0.02;        ///< neighbours further apart in depth (times it) are not connected
   double reach = 0.02;             ///< a region reaches this far (metres) beyond its object's extent
   int min_unknown_pixels = 800;    ///< unexplained regions this big are unknown objects (0: none)
+  /// With normals: pixels seen at more than this angle to their ray (an object's silhouette,
+  /// where it meets what lies behind it without a depth jump) join no unknown region.
+  double max_grazing_deg = 75;
 
   /// The options of the report node.
   static const Fields<InterpretOptions>& fields();
@@ -64,6 +68,7 @@ inline const Fields<InterpretOptions>& InterpretOptions::fields() {
       field("depth_jump", &O::depth_jump, 0.001, 1, "a depth step (times the depth) that separates regions"),
       field("reach", &O::reach, 0, 1, "a region's reach beyond its object's extent, metres"),
       field("min_unknown_pixels", &O::min_unknown_pixels, 0, 1e7, "least pixels of an unknown object (0: none)"),
+      field("max_grazing_deg", &O::max_grazing_deg, 0, 90, "with normals: pixels seen more obliquely join no unknown region"),
   };
   return f;
 }

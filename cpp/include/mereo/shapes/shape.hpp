@@ -102,6 +102,11 @@ void frustum_outline(const Eigen::Vector3d& point, const Eigen::Vector3d& axis, 
 inline Eigen::Vector3d across(const Eigen::Vector3d& q, const Eigen::Vector3d& unit_axis) {
   return q - unit_axis * unit_axis.dot(q);
 }
+/// The unit direction of `q` across `unit_axis` (any one across it when q is along it).
+inline Eigen::Vector3d unit_across(const Eigen::Vector3d& q, const Eigen::Vector3d& unit_axis) {
+  const Eigen::Vector3d a = across(q, unit_axis);
+  return a.norm() > 1e-9 ? Eigen::Vector3d(a.normalized()) : unit_axis.unitOrthogonal();
+}
 
 /// What a class that is not detected in depth (a line, an arc: models may name them) gives for
 /// the detector's part of the interface: no minimal set, no refit, no extent, no sign convention.

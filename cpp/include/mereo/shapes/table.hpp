@@ -14,6 +14,7 @@
 #include "mereo/shapes/cylinder.hpp"
 #include "mereo/shapes/line.hpp"
 #include "mereo/shapes/plane.hpp"
+#include "mereo/shapes/region.hpp"
 #include "mereo/shapes/sphere.hpp"
 #include "mereo/shapes/torus.hpp"
 
@@ -27,7 +28,8 @@ using Geometry = std::variant<
     shapes::Torus,
     shapes::Line,
     shapes::Arc,
-    shapes::Cone>;
+    shapes::Cone,
+    shapes::Region>;
 
 namespace shapes::detail {
 template <class S, class V>

@@ -11,7 +11,7 @@
 //
 //   bench_pipeline            100 frames, K = 4
 //   bench_pipeline --quick    12 frames (ctest)
-//   options: --frames N, --in-flight K
+//   options: --frames N, --in-flight K, --graph FILE (another pipeline file)
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -49,11 +49,13 @@ int main(int argc, char** argv) {
   nodes::register_builtin();
   int frames = 100, in_flight = 4;
   bool quick = false;
+  std::string graph_file = std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop.yaml";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quick") quick = true, frames = 12;
     else if (a == "--frames" && i + 1 < argc) frames = std::stoi(argv[++i]);
     else if (a == "--in-flight" && i + 1 < argc) in_flight = std::stoi(argv[++i]);
+    else if (a == "--graph" && i + 1 < argc) graph_file = argv[++i];
   }
   const int distinct = quick ? 4 : 20;
   std::vector<Frame> pool;
@@ -63,7 +65,7 @@ int main(int argc, char** argv) {
     f.id = std::to_string(i);
     return f;
   });
-  graph::Graph g = graph::Graph::load(std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop.yaml");
+  graph::Graph g = graph::Graph::load(graph_file);
   g.verify();
 
   auto run = [&](graph::Mode mode, std::vector<double>* rss, std::size_t* objects) {
@@ -96,7 +98,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < fifth; ++i) early = std::max(early, rss[i]);
   for (std::size_t i = rss.size() - fifth; i < rss.size(); ++i) late = std::max(late, rss[i]);
 
-  std::printf("bench_pipeline: graphs/tabletop.yaml, %d VGA frames (%d distinct, preloaded), K = %d\n\n", frames,
+  std::printf("bench_pipeline: %s, %d VGA frames (%d distinct, preloaded), K = %d\n\n", graph_file.c_str(), frames,
               distinct, in_flight);
   std::printf("%-14s %8s %10s %10s %10s\n", "node", "count", "mean ms", "median ms", "max ms");
   for (const auto& t : timings)

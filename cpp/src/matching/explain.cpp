@@ -134,11 +134,7 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     return in_roi(j) && region_of[std::size_t(j)] < 0 &&
            (!facing || features::facing_cos(cloud, *normals, j) >= min_cos);
   };
-  for (std::size_t s = 0; s < N; ++s) {
-    const int i = int(s);
-    if (mark[s] == stamp || !free(i)) continue;
-    auto region = features::connected_region(cloud, {i}, o.depth_jump, mark, stamp, free);
-    if (int(region.size()) < o.min_unknown_pixels) continue;
+  for (auto& region : features::connected_regions(cloud, o.depth_jump, o.min_unknown_pixels, free)) {
     RecognizedObject::Region r;
     r.pixels = int(region.size());
     r.box = {W, H, -1, -1};

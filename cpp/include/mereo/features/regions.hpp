@@ -82,4 +82,27 @@ std::vector<int> connected_region(const Cloud& cloud, const std::vector<int>& se
   return out;
 }
 
+/// The regions of the pixels where `free(i)` holds, each grown by connected_region from its
+/// first pixel (row-major order), those with at least min_pixels pixels. Deterministic.
+template <class Free>
+std::vector<std::vector<int>> connected_regions(const Cloud& cloud, double depth_jump, int min_pixels, Free free) {
+  const std::size_t N = std::size_t(cloud.rows()) * std::size_t(cloud.cols());
+  std::vector<int> mark(N, -1);
+  std::vector<std::vector<int>> out;
+  for (std::size_t s = 0; s < N; ++s) {
+    if (mark[s] == 0 || !free(int(s))) continue;
+    auto region = connected_region(cloud, {int(s)}, depth_jump, mark, 0, free);
+    if (int(region.size()) >= min_pixels) out.push_back(std::move(region));
+  }
+  return out;
+}
+
+/// The objects standing in `roi` as regions (what explain_regions reports as unknown where no
+/// object is accepted): its pixels connected without a depth jump (depth_jump times the depth)
+/// and, with `normals`, apart at silhouettes (pixels seen at more than max_grazing_deg to their
+/// ray join none); regions of at least min_pixels pixels, each sorted.
+std::vector<std::vector<int>> object_regions(const Cloud& cloud, const extension::Mask& roi, const NormalMap* normals,
+                                             double depth_jump = 0.02, double max_grazing_deg = 75,
+                                             int min_pixels = 800);
+
 }  // namespace mereo::features

@@ -40,7 +40,13 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
       for (int i : segments.at(std::size_t(part.second)).pixels) pixels[a].push_back(i);
     std::sort(pixels[a].begin(), pixels[a].end());
     pixels[a].erase(std::unique(pixels[a].begin(), pixels[a].end()), pixels[a].end());
-    for (int i : pixels[a]) owner[std::size_t(i)] = int(a);
+    // a free-form region holds the primitives fitted to it: it does not stop their objects'
+    // regions (a cylinder on a detergent bottle's band must still explain the whole bottle)
+    const bool free_form = std::all_of(objects[a].parts.begin(), objects[a].parts.end(), [&](const auto& part) {
+      return segments.at(std::size_t(part.second)).template is<shapes::Region>();
+    });
+    if (!free_form)
+      for (int i : pixels[a]) owner[std::size_t(i)] = int(a);
   }
 
   // each object's footprint on the table, all the way up from its foot: a primitive fitted to a

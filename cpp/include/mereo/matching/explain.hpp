@@ -3,7 +3,8 @@
 // primitive of a small part of a free-form object; the object is then not a container but
 // `unknown`. The check: the object's region (the pixels above the table connected to its parts'
 // pixels without a depth jump, over its footprint on the table, not what it stands on) must be
-// mostly its parts' pixels. Two objects do not fill one place: the weaker of two there goes.
+// mostly its parts' pixels (an object of free-form regions takes no pixels from the others'
+// regions). Two objects do not fill one place: the weaker of two there goes.
 // What no accepted object explains and lies in no accepted object's place is reported as unknown
 // objects with their region and size: the free-form regions that models of free-form objects are
 // matched to (features/regions.hpp, the find_regions node).

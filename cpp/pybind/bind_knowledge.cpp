@@ -94,6 +94,8 @@ void bind_knowledge(py::module_& m) {
                      "pixels whose rays stop on the end facing the camera (a lid; cylinders, cones)")
       .def_readwrite("end_open", &Segment::end_open,
                      "pixels whose rays pass the end facing the camera into the body (an open vessel)")
+      .def_readwrite("bend", &Segment::bend,
+                     "how much an axial body bends along its axis, as its normals show (1 / m; 0: none)")
       .def_property_readonly("pixels",
                              [](const Segment& s) {
                                py::array_t<int> a(py::ssize_t(s.pixels.size()));

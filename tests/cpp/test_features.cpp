@@ -6,6 +6,7 @@
 #include <random>
 
 #include "features/fit.hpp"
+#include "features/pixels.hpp"
 #include "mereo/core/error.hpp"
 #include "mereo/extension/normals.hpp"
 #include "mereo/extension/projection.hpp"
@@ -471,4 +472,44 @@ TEST(Regions, ARegionGoesThroughJsonFieldsAndBack) {
   for (const auto& [name, value] : s.fields()) ASSERT_TRUE(t.set_field(name, value)) << name;
   for (const char* a : shapes::Region::attributes) EXPECT_EQ(*t.attribute(a), *s.attribute(a)) << a;
   EXPECT_STREQ(t.class_name(), "region");
+}
+
+TEST(Features, ABodyThatBendsAlongItsAxisShowsItInItsNormalsAndACylinderDoesNot) {
+  // 1 m in front of the camera: a tube of radius 2 cm bent on a ring of radius 20 cm (a banana),
+  // seen over 30 degrees of the ring and 120 degrees of the tube, with exact normals; and a
+  // straight cylinder of the same radius. Both are taken as the same cylinder segment.
+  const double R = 0.2, r = 0.02;
+  const Eigen::Vector3d centre(0, 0, 1), ring_normal = Eigen::Vector3d::UnitY();
+  const auto sample = [&](bool bent, Cloud& cloud, NormalMap& normals) {
+    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pn;
+    for (double phi = -15; phi <= 15; phi += 0.5)
+      for (double th = -60; th <= 60; th += 2) {
+        const double f = phi * M_PI / 180, t = th * M_PI / 180;
+        // the tube's centre line runs along x; its cross-section faces the camera (-z)
+        const Eigen::Vector3d radial = bent ? Eigen::Vector3d(std::sin(f), 0, -std::cos(f)) : Eigen::Vector3d(0, 0, -1);
+        const Eigen::Vector3d along = bent ? Eigen::Vector3d(std::sin(f) * (R + r), 0, 0) : Eigen::Vector3d(f * (R + r), 0, 0);
+        const Eigen::Vector3d n = std::cos(t) * radial + std::sin(t) * ring_normal;
+        const Eigen::Vector3d base = bent ? Eigen::Vector3d(centre + Eigen::Vector3d(0, 0, R) + R * radial)
+                                          : Eigen::Vector3d(centre + along);
+        pn.emplace_back(base + r * n, n);
+      }
+    cloud = Cloud(1, int(pn.size()));
+    normals = NormalMap(1, int(pn.size()));
+    for (std::size_t i = 0; i < pn.size(); ++i)
+      for (int k = 0; k < 3; ++k) cloud.ptr(0, int(i))[k] = float(pn[i].first(k)), normals.ptr(0, int(i))[k] = float(pn[i].second(k));
+  };
+  const features::DetectOptions o;
+  for (bool bent : {false, true}) {
+    Cloud cloud;
+    NormalMap normals;
+    sample(bent, cloud, normals);
+    const fd::Pixels f(cloud, normals, o);
+    Segment s = cylinder(centre, Eigen::Vector3d::UnitX(), r, 0.1);
+    for (int i = 0; i < int(cloud.pixels()); ++i) s.pixels.push_back(i);
+    fd::measure_bend(f, s);
+    if (bent)
+      EXPECT_NEAR(s.bend, 1 / (R + r), 0.8) << "1 / m";
+    else
+      EXPECT_NEAR(s.bend, 0.0, 1e-6);
+  }
 }

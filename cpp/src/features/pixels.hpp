@@ -111,6 +111,8 @@ struct Candidate {
 /// Sets a segment's pixels, inlier count, visible extent, canonical sign, inward flag and mean
 /// colour and hue (when `color` is given).
 void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color);
+/// How much an axial segment bends along its axis, as its pixels' normals show: Segment::bend.
+void measure_bend(const Pixels& f, Segment& s);
 /// A segment's mean colour and hue over its pixels (nothing without a colour image).
 void set_color(Segment& s, const ColorImage* color);
 

@@ -144,7 +144,7 @@ const std::vector<std::string>& attribute_names() {
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
     for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "inliers", "residual", "hue", "inward",
-                          "closed_end", "open_end"})
+                          "closed_end", "open_end", "bend"})
       n.push_back(g);
     return n;
   }();
@@ -171,6 +171,7 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
   if (name == "residual") return s.residual;
   if (name == "hue") return s.hue;
   if (name == "inward") return s.inward ? 1.0 : 0.0;
+  if (name == "bend") return s.bend;
   if (name == "closed_end" || name == "open_end") {
     // the share of the end's decided pixels on a lid (closed) or inside (open); 0 for both when
     // too few were seen to tell, so that neither an open nor a closed model is penalized

@@ -27,6 +27,14 @@ class Segment:
         Sets one of the class's parameters by its JSON name.
         """
     @property
+    def bend(self) -> float:
+        """
+        how much an axial body bends along its axis, as its normals show (1 / m; 0: none)
+        """
+    @bend.setter
+    def bend(self, arg0: typing.SupportsFloat) -> None:
+        ...
+    @property
     def cls(self) -> str:
         ...
     @property

@@ -29,6 +29,9 @@ struct Segment {
   /// end cap facing the camera, those that stop on the cap (a lid) and those that pass it into
   /// the body (an open vessel seen into); 0 and 0 when no end faces the camera.
   int end_closed = 0, end_open = 0;
+  /// Axial solids: how much the surface bends along the axis as the normals show it (1 / m; 0 when
+  /// the normals show no consistent bend): a banana fitted by a cylinder does, a can does not.
+  double bend = 0.0;
   std::vector<int> pixels;          ///< inlier pixel indices v * width + u
 
   Segment() = default;

@@ -513,3 +513,26 @@ TEST(Features, ABodyThatBendsAlongItsAxisShowsItInItsNormalsAndACylinderDoesNot)
       EXPECT_NEAR(s.bend, 0.0, 1e-6);
   }
 }
+
+TEST(Features, ASphereKnowsWhereOnItItWasSeen) {
+  // the cap: the mean unit direction from the centre to the points; a bowl's outer wall (below
+  // the centre, up = -y in the camera frame here) and a dome (above it) point opposite ways
+  shapes::Sphere bowl{Eigen::Vector3d(0, 0, 1), 0.06}, dome = bowl;
+  std::vector<Eigen::Vector3d> below, above;
+  for (double a = 0; a < 2 * M_PI; a += 0.1)
+    for (double e = 0.05; e < M_PI / 2; e += 0.05) {
+      const Eigen::Vector3d d(std::cos(a) * std::cos(e), std::sin(e), std::sin(a) * std::cos(e));  // +y: down
+      below.push_back(bowl.center + bowl.radius * d);
+      above.push_back(bowl.center + bowl.radius * Eigen::Vector3d(d.x(), -d.y(), d.z()));
+    }
+  bowl.set_extent(below), dome.set_extent(above);
+  const Eigen::Vector3d up = -Eigen::Vector3d::UnitY();
+  // points evenly spaced in elevation: the mean of sin(elevation) over (0, 90 degrees) is 2 / pi
+  EXPECT_NEAR(bowl.cap.dot(up), -2 / M_PI, 0.02);
+  EXPECT_NEAR(dome.cap.dot(up), 2 / M_PI, 0.02);
+  EXPECT_NEAR(bowl.cap.x(), 0.0, 1e-2);
+  // moved with the sphere
+  Segment s(bowl);
+  const Eigen::Isometry3d T(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  EXPECT_NEAR(s.transformed(T).as<shapes::Sphere>().cap.dot(-up), -2 / M_PI, 0.02);
+}

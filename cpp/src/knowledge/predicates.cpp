@@ -144,7 +144,7 @@ const std::vector<std::string>& attribute_names() {
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
     for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "inliers", "residual", "hue", "inward",
-                          "closed_end", "open_end", "bend"})
+                          "closed_end", "open_end", "bend", "rise"})
       n.push_back(g);
     return n;
   }();
@@ -172,6 +172,12 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
   if (name == "hue") return s.hue;
   if (name == "inward") return s.inward ? 1.0 : 0.0;
   if (name == "bend") return s.bend;
+  if (name == "rise") {
+    // where a sphere was seen, up (+1: on its top, a dome) or down (-1: below its centre, a
+    // bowl's wall) along the support's normal
+    const auto* sphere = s.get_if<shapes::Sphere>();
+    return sphere ? sphere->cap.dot(ctx.up.normalized()) : NAN;
+  }
   if (name == "closed_end" || name == "open_end") {
     // the share of the end's decided pixels on a lid (closed) or inside (open); 0 for both when
     // too few were seen to tell, so that neither an open nor a closed model is penalized

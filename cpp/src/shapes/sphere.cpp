@@ -40,15 +40,24 @@ double Sphere::range_residual(const Eigen::Vector3d& x) const {
   return ray_residual(x, center, nullptr, radius, [&] { return signed_distance(x); });
 }
 
+void Sphere::set_extent(const std::vector<Eigen::Vector3d>& inliers) {
+  cap.setZero();
+  for (const auto& p : inliers)
+    if ((p - center).norm() > 0) cap += (p - center).normalized();
+  if (!inliers.empty()) cap /= double(inliers.size());
+}
+
 void Sphere::fields(FieldList& out, bool inward) const {
   out.push_back({"center", center});
   out.push_back({"radius", radius});
   out.push_back({"inward", inward});
+  out.push_back({"cap", cap});
 }
 
 bool Sphere::set_field(const std::string& key, const FieldValue& v) {
   if ((key == "center" || key == "point") && vector3(v)) return center = *vector3(v), true;
   if (key == "radius" && number(v)) return radius = *number(v), true;
+  if (key == "cap" && vector3(v)) return cap = *vector3(v), true;
   return false;
 }
 

@@ -1,4 +1,6 @@
-// mereo/shapes/sphere.hpp: a sphere (a bowl's outside or inside): `center`, `radius`.
+// mereo/shapes/sphere.hpp: a sphere (a bowl's outside or inside): `center`, `radius`, and `cap`:
+// where on it its points were seen (the mean of the unit directions from the centre to them; 0
+// when unknown). A bowl's wall is seen below its centre, a dome's above.
 #pragma once
 
 #include "mereo/shapes/shape.hpp"
@@ -13,6 +15,7 @@ struct Sphere {
 
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 0.0;
+  Eigen::Vector3d cap = Eigen::Vector3d::Zero();
 
   Eigen::Vector3d origin() const { return center; }
   std::optional<Eigen::Vector3d> direction() const { return std::nullopt; }
@@ -27,9 +30,9 @@ struct Sphere {
   void unpack(const Eigen::VectorXd& v) { center = v.head<3>(), radius = v(3); }
   bool fit_direct(const std::vector<Eigen::Vector3d>&) { return false; }
   double range_residual(const Eigen::Vector3d& x) const;
-  void set_extent(const std::vector<Eigen::Vector3d>&) {}
+  void set_extent(const std::vector<Eigen::Vector3d>& inliers);
   void canonical() {}
-  void transform(const Eigen::Isometry3d& T) { center = T * center; }
+  void transform(const Eigen::Isometry3d& T) { center = T * center, cap = T.linear() * cap; }
   void fields(FieldList& out, bool inward) const;
   bool set_field(const std::string& key, const FieldValue& v);
   std::optional<double> attribute(const std::string& key) const;

@@ -34,6 +34,7 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
   // the pixels of every accepted object's parts
   std::vector<int> owner(N, -1);
   std::vector<std::vector<int>> pixels(objects.size());
+  std::vector<bool> free_form(objects.size(), false);  // made of free-form regions only
   for (std::size_t a = 0; a < objects.size(); ++a) {
     if (!objects[a].accepted) continue;
     for (const auto& part : objects[a].parts)
@@ -42,10 +43,10 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     pixels[a].erase(std::unique(pixels[a].begin(), pixels[a].end()), pixels[a].end());
     // a free-form region holds the primitives fitted to it: it does not stop their objects'
     // regions (a cylinder on a detergent bottle's band must still explain the whole bottle)
-    const bool free_form = std::all_of(objects[a].parts.begin(), objects[a].parts.end(), [&](const auto& part) {
+    free_form[a] = std::all_of(objects[a].parts.begin(), objects[a].parts.end(), [&](const auto& part) {
       return segments.at(std::size_t(part.second)).template is<shapes::Region>();
     });
-    if (!free_form)
+    if (!free_form[a])
       for (int i : pixels[a]) owner[std::size_t(i)] = int(a);
   }
 
@@ -108,10 +109,13 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
       return w.z() >= foot - o.reach && d <= radius + o.reach && (d <= radius || w.z() >= foot + o.reach);
     });
     objects[a].coverage = double(pixels[a].size()) / double(std::max<std::size_t>(1, region.size()));
-    if (objects[a].coverage < o.min_coverage) {
+    // a free-form region is its object's whole region; one that explains less was cut (at a
+    // silhouette) from something larger: a part of it (a drill's grip), not an object
+    const double min_coverage = free_form[a] ? o.min_free_form_coverage : o.min_coverage;
+    if (objects[a].coverage < min_coverage) {
       char why[160];
       std::snprintf(why, sizeof why, "explains %.0f%% of its region (%zu of %zu pixels; at least %.0f%%): not a %s",
-                    100 * objects[a].coverage, pixels[a].size(), region.size(), 100 * o.min_coverage,
+                    100 * objects[a].coverage, pixels[a].size(), region.size(), 100 * min_coverage,
                     objects[a].model.c_str());
       reject(a, why);
     } else {

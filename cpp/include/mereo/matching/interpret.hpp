@@ -47,6 +47,10 @@ struct InterpretOptions {
   double list_score = 0.3;         ///< alternatives at or above this are listed (not accepted)
   // explain_regions (explain.hpp), when the node has the frame's cloud and support plane:
   double min_coverage = 0.5;       ///< an accepted object's parts' least share of its region
+  /// ... of an object made of free-form regions only (they are whole regions: true bottles
+  /// explain 0.97-1.0 of theirs on rendered and real frames, a drill's grip cut off at a
+  /// silhouette 0.54)
+  double min_free_form_coverage = 0.9;
   double depth_jump = 0.02;        ///< neighbours further apart in depth (times it) are not connected
   double reach = 0.02;             ///< a region reaches this far (metres) beyond its object's extent
   int min_unknown_pixels = 800;    ///< unexplained regions this big are unknown objects (0: none)
@@ -65,6 +69,8 @@ inline const Fields<InterpretOptions>& InterpretOptions::fields() {
       field("min_posterior", &O::min_posterior, 0, 1, "nor below this posterior"),
       field("list_score", &O::list_score, 0, 1, "alternatives at or above this are listed"),
       field("min_coverage", &O::min_coverage, 0, 1, "an object's parts' least share of its region"),
+      field("min_free_form_coverage", &O::min_free_form_coverage, 0, 1,
+            "the least share of an object made of free-form regions"),
       field("depth_jump", &O::depth_jump, 0.001, 1, "a depth step (times the depth) that separates regions"),
       field("reach", &O::reach, 0, 1, "a region's reach beyond its object's extent, metres"),
       field("min_unknown_pixels", &O::min_unknown_pixels, 0, 1e7, "least pixels of an unknown object (0: none)"),

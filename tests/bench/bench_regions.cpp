@@ -31,6 +31,7 @@
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/regions.hpp"
 #include "mereo/io/io.hpp"
+#include "mereo/matching/interpret.hpp"
 #include "mereo/synthetic/scene.hpp"
 
 namespace fs = std::filesystem;
@@ -38,8 +39,10 @@ using namespace mereo;
 
 namespace {
 
-constexpr int kMinPixels = 800;
-constexpr double kDepthJump = 0.02;  // the regions' and the clusters' distance at 1 m
+// the tabletop graph's values: the regions' and the clusters' least size and distance at 1 m
+const matching::InterpretOptions kGraph;
+const int kMinPixels = kGraph.min_unknown_pixels;
+const double kDepthJump = kGraph.depth_jump;
 
 struct Input {
   std::string set, name;
@@ -171,14 +174,14 @@ int main(int argc, char** argv) {
     std::vector<double> ta, tb;
     for (int r = 0; r < repeats; ++r) {
       double t0 = bench::now_ms();
-      a = features::object_regions(in.cloud, in.plane.roi, &in.normals, kDepthJump, 75, kMinPixels);
+      a = features::object_regions(in.cloud, in.plane.roi, &in.normals, kDepthJump, kGraph.max_grazing_deg, kMinPixels);
       ta.push_back(bench::now_ms() - t0);
       t0 = bench::now_ms();
       b = pcl_clusters(in);
       tb.push_back(bench::now_ms() - t0);
     }
     score(in, a, ours[in.set]), ours[in.set].ms.push_back(bench::median(ta));
-    score(in, features::object_regions(in.cloud, in.plane.roi, nullptr, kDepthJump, 75, kMinPixels), jumps[in.set]);
+    score(in, features::object_regions(in.cloud, in.plane.roi, nullptr, kDepthJump, kGraph.max_grazing_deg, kMinPixels), jumps[in.set]);
     score(in, b, pcl[in.set]), pcl[in.set].ms.push_back(bench::median(tb));
   }
 

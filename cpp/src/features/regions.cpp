@@ -75,13 +75,8 @@ std::optional<Segment> describe_region(const Cloud& cloud, const extension::Supp
 std::vector<std::vector<int>> object_regions(const Cloud& cloud, const extension::Mask& roi, const NormalMap* normals,
                                              double depth_jump, double max_grazing_deg, int min_pixels) {
   if (!roi.same_size(cloud)) throw InputError("object_regions: the mask's size differs from the cloud's");
-  const bool facing = normals && normals->same_size(cloud);
-  const double min_cos = std::cos(max_grazing_deg * M_PI / 180);
-  auto out = connected_regions(cloud, depth_jump, min_pixels, [&](int i) {
-    return roi.data()[i] != 0 && (!facing || facing_cos(cloud, *normals, i) >= min_cos);
-  });
-  for (auto& r : out) std::sort(r.begin(), r.end());
-  return out;
+  const FacesCamera faces(cloud, normals, max_grazing_deg);
+  return connected_regions(cloud, depth_jump, min_pixels, [&](int i) { return roi.data()[i] != 0 && faces(i); });
 }
 
 }  // namespace mereo::features

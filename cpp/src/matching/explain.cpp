@@ -138,15 +138,10 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
 
   if (o.min_unknown_pixels <= 0) return;
   const Eigen::Matrix3d R = T.linear();
-  const bool facing = normals && normals->same_size(cloud);
-  const double min_cos = std::cos(o.max_grazing_deg * M_PI / 180);
-  const auto free = [&](int j) {
-    return in_roi(j) && region_of[std::size_t(j)] < 0 &&
-           (!facing || features::facing_cos(cloud, *normals, j) >= min_cos);
-  };
+  const features::FacesCamera faces(cloud, normals, o.max_grazing_deg);
+  const auto free = [&](int j) { return in_roi(j) && region_of[std::size_t(j)] < 0 && faces(j); };
   for (auto& region : features::connected_regions(cloud, o.depth_jump, o.min_unknown_pixels, free)) {
     RecognizedObject::Region r;
-    r.pixels = int(region.size());
     r.box = {W, H, -1, -1};
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
     Eigen::Vector2d at = Eigen::Vector2d::Zero();  // on the table
@@ -175,7 +170,6 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     r.centroid /= double(region.size());
     r.size = hi - lo;
     r.size.z() = top;
-    std::sort(region.begin(), region.end());
     r.indices = std::move(region);
     RecognizedObject u;
     u.id = int(objects.size());

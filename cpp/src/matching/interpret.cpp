@@ -136,7 +136,7 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
     if (!o.rejected.empty()) obj["rejected"] = o.rejected;
     if (o.region) {
       const auto& r = *o.region;
-      obj["region"] = {{"pixels", r.pixels},
+      obj["region"] = {{"pixels", r.indices.size()},
                        {"box", Json::array({r.box[0], r.box[1], r.box[2], r.box[3]})},
                        {"centroid", Json::array({r.centroid.x(), r.centroid.y(), r.centroid.z()})},
                        {"size", Json::array({r.size.x(), r.size.y(), r.size.z()})}};

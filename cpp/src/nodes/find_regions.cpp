@@ -35,11 +35,12 @@ graph::NodeSpec find_regions_node() {
     const auto ro = options_from<features::RegionOptions>(o);
     return graph::NodeBody([ro](graph::NodeContext& ctx) {
       std::vector<Segment> out = ctx.input<std::vector<Segment>>("segments");
+      const Cloud& cloud = ctx.input<Cloud>("cloud");
+      const auto& plane = ctx.input<extension::SupportPlane>("plane");
       const ColorImage* color = ctx.has_input("frame") ? &ctx.input<Frame>("frame").color : nullptr;
       for (const auto& u : ctx.input<std::vector<matching::RecognizedObject>>("objects"))
         if (u.region && !u.accepted)
-          if (auto r = features::describe_region(ctx.input<Cloud>("cloud"), ctx.input<extension::SupportPlane>("plane"),
-                                                 u.region->indices, ro, color)) {
+          if (auto r = features::describe_region(cloud, plane, u.region->indices, ro, color)) {
             r->id = int(out.size());
             out.push_back(std::move(*r));
           }

@@ -6,6 +6,7 @@
 // narrow top); the find_regions node appends them to the primitives for a second matching.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <optional>
@@ -41,15 +42,28 @@ std::optional<Segment> describe_region(const Cloud& cloud, const extension::Supp
                                        std::vector<int> pixels, const RegionOptions& options = {},
                                        const ColorImage* color = nullptr);
 
-/// The cosine of the angle between pixel i's normal and its ray back to the camera: 1 face-on,
-/// 0 at a silhouette; NaN without a normal.
-inline double facing_cos(const Cloud& cloud, const NormalMap& normals, int i) {
-  const int W = cloud.cols();
-  const float* n = normals.ptr(i / W, i % W);
-  const float* p = cloud.ptr(i / W, i % W);
-  const double r = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
-  return -(double(n[0]) * p[0] + double(n[1]) * p[1] + double(n[2]) * p[2]) / r;
-}
+/// Whether a pixel faces the camera: seen at no more than max_grazing_deg between its normal and
+/// its ray (at a silhouette a surface turns away, and what touches it behind joins it without a
+/// depth jump). Every pixel does without normals (null, or of another size than the cloud).
+class FacesCamera {
+ public:
+  FacesCamera(const Cloud& cloud, const NormalMap* normals, double max_grazing_deg)
+      : cloud_(cloud), normals_(normals && normals->same_size(cloud) ? normals : nullptr),
+        min_cos_(std::cos(max_grazing_deg * M_PI / 180)) {}
+  bool operator()(int i) const {
+    if (!normals_) return true;
+    const int W = cloud_.cols();
+    const float* n = normals_->ptr(i / W, i % W);
+    const float* p = cloud_.ptr(i / W, i % W);
+    const double r = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
+    return -(double(n[0]) * p[0] + double(n[1]) * p[1] + double(n[2]) * p[2]) >= min_cos_ * r;  // (NaN: no)
+  }
+
+ private:
+  const Cloud& cloud_;
+  const NormalMap* normals_;
+  double min_cos_;
+};
 
 /// The pixels reachable from `seeds` over 8-neighbours that are valid, pass `enter(j)` and lie
 /// within depth_jump times the depth of the pixel they are reached from. `mark` (one entry per
@@ -83,7 +97,8 @@ std::vector<int> connected_region(const Cloud& cloud, const std::vector<int>& se
 }
 
 /// The regions of the pixels where `free(i)` holds, each grown by connected_region from its
-/// first pixel (row-major order), those with at least min_pixels pixels. Deterministic.
+/// first pixel (row-major order), those with at least min_pixels pixels, each sorted.
+/// Deterministic.
 template <class Free>
 std::vector<std::vector<int>> connected_regions(const Cloud& cloud, double depth_jump, int min_pixels, Free free) {
   const std::size_t N = std::size_t(cloud.rows()) * std::size_t(cloud.cols());
@@ -92,7 +107,9 @@ std::vector<std::vector<int>> connected_regions(const Cloud& cloud, double depth
   for (std::size_t s = 0; s < N; ++s) {
     if (mark[s] == 0 || !free(int(s))) continue;
     auto region = connected_region(cloud, {int(s)}, depth_jump, mark, 0, free);
-    if (int(region.size()) >= min_pixels) out.push_back(std::move(region));
+    if (int(region.size()) < min_pixels) continue;
+    std::sort(region.begin(), region.end());
+    out.push_back(std::move(region));
   }
   return out;
 }
@@ -100,9 +117,9 @@ std::vector<std::vector<int>> connected_regions(const Cloud& cloud, double depth
 /// The objects standing in `roi` as regions (what explain_regions reports as unknown where no
 /// object is accepted): its pixels connected without a depth jump (depth_jump times the depth)
 /// and, with `normals`, apart at silhouettes (pixels seen at more than max_grazing_deg to their
-/// ray join none); regions of at least min_pixels pixels, each sorted.
+/// ray join none); regions of at least min_pixels pixels, each sorted. The tabletop graph's values
+/// are InterpretOptions' depth_jump, max_grazing_deg and min_unknown_pixels.
 std::vector<std::vector<int>> object_regions(const Cloud& cloud, const extension::Mask& roi, const NormalMap* normals,
-                                             double depth_jump = 0.02, double max_grazing_deg = 75,
-                                             int min_pixels = 800);
+                                             double depth_jump, double max_grazing_deg, int min_pixels);
 
 }  // namespace mereo::features

@@ -32,11 +32,10 @@ struct RecognizedObject {
   /// An object of model "unknown" (explain_regions): a region above the table that no accepted
   /// object explains.
   struct Region {
-    int pixels = 0;
     std::array<int, 4> box{};      ///< u0, v0, u1, v1 (inclusive)
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< camera frame, metres
     Eigen::Vector3d size = Eigen::Vector3d::Zero();      ///< extent along the table's x, y and up
-    std::vector<int> indices;      ///< its pixels, v * width + u (not in the JSON: find_regions reads them)
+    std::vector<int> indices;      ///< its pixels, v * width + u, sorted (the JSON gives their number)
   };
   std::optional<Region> region;
 };

@@ -7,6 +7,8 @@
 //     - cloud.cloud -> primitives.cloud
 //     - normals.normals -> primitives.normals
 //     - table.roi -> primitives.roi          # optional: only the points above the table
+//     - table.plane -> primitives.plane      # optional: upright bodies on it are also looked
+//                                            # for without normals
 //     - source.frame -> primitives.frame     # optional: colour for the segments' hue, and the
 //                                            # camera's focal length (else fitted to the cloud)
 //     - raw_cloud.cloud -> primitives.unfiltered  # optional: the unfiltered points that
@@ -27,6 +29,7 @@ graph::NodeSpec detect_primitives_node() {
   s.inputs = {{"cloud", "Cloud", "organized XYZ cloud"},
               {"normals", "NormalMap", "per-pixel normals"},
               {"roi", "Mask", "only these pixels (e.g. above the table)", false},
+              {"plane", "SupportPlane", "the support: upright bodies on it are also looked for without normals", false},
               {"frame", "Frame", "the frame of the cloud: the segments' colour, its camera's focal length", false},
               {"unfiltered", "Cloud", "the cloud before depth filtering: cylinders and spheres are measured on it", false}};
   s.outputs = {{"segments", "Segments", "the primitives with parameters and inlier pixels"}};
@@ -36,6 +39,7 @@ graph::NodeSpec detect_primitives_node() {
     return graph::NodeBody([d](graph::NodeContext& ctx) {
       features::DetectOptions q = d;
       if (ctx.has_input("roi")) q.roi = ctx.input<extension::Mask>("roi");
+      if (ctx.has_input("plane")) q.up = ctx.input<extension::SupportPlane>("plane").normal;
       const ColorImage* color = nullptr;
       if (ctx.has_input("frame")) {
         const Frame& frame = ctx.input<Frame>("frame");

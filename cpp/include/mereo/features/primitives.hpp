@@ -71,6 +71,13 @@ struct DetectOptions {
   /// Optional region of interest: pixels with a non-zero value are used (same size as the
   /// cloud); empty = all pixels.
   Image<std::uint8_t, 1> roi;
+  /// The support's normal (up, camera frame), when known: upright cylinders (bodies standing on
+  /// the support) are then also looked for without normals, after the bottom-up search, in the
+  /// pixels it left (noisy depth, e.g. active stereo beyond a metre, turns normals too far for
+  /// it). Zero = unknown.
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();
+  /// Look for upright bodies without normals where `up` is known (false: the bottom-up search only).
+  bool upright_bodies = true;
   /// Focal length in pixels for the sampling window; 0 = fitted to the cloud.
   double focal_px = 0.0;
   /// Cylinders and spheres are fitted along the rays (refit's along_rays): the maximum-likelihood
@@ -102,6 +109,8 @@ inline const Fields<DetectOptions>& DetectOptions::fields() {
       field("min_support", &O::min_support, 10, 1e7, "fewest pixels of a segment"),
       field("min_support_torus", &O::min_support_torus, 10, 1e7, "fewest pixels of a torus"),
       field("max_primitives", &O::max_primitives, 1, 10000, "at most this many segments"),
+      field("upright_bodies", &O::upright_bodies,
+            "given the support plane, also look for upright cylinders without normals (noisy depth)"),
       field("fit_along_rays", &O::fit_along_rays,
             "fit cylinders and spheres along the rays (depth noise along them); false: by geometric distance"),
   }, nested(&O::handle, HandleOptions::fields()));

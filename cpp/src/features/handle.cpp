@@ -116,6 +116,26 @@ Segment refit_handle(const Segment& body_segment, const Segment& t0, const std::
       handle_residuals(handle_torus(body, full), pts, r);
     });
     x.head(y.size()) = y;
+    // A handle is attached: its tube's centre line enters the wall at its roots. A ring whose
+    // centre line stays outside the wall (noisy points of the outer arc alone: a small ring
+    // fitted off the wall) is refitted with it entering the wall by its tube radius
+    // (distance from the axis = body radius + ring radius - tube radius).
+    if (x(2) - x(3) > body.radius) {
+      Eigen::VectorXd z(4);
+      z << x(0), x(1), x(3), x(4);
+      if (fix_minor) z.conservativeResize(3);  // (the tube held)
+      auto attached = [&](const Eigen::VectorXd& v) {
+        Eigen::VectorXd full = x;
+        full(0) = v(0), full(1) = v(1), full(3) = v(2);
+        if (v.size() > 3) full(4) = v(3);
+        full(2) = body.radius + full(3) - full(4);
+        return full;
+      };
+      detail::levenberg_marquardt(z, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+        handle_residuals(handle_torus(body, attached(v)), pts, r);
+      });
+      x = attached(z);
+    }
   }
   Segment s(handle_torus(body, x));
   s.id = t0.id, s.pixels = t0.pixels, s.inliers = t0.inliers;

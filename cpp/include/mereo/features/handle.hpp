@@ -104,6 +104,9 @@ inline const Fields<HandleOptions>& HandleOptions::fields() {
 /// fat tube, while with the plane held the tube radius is how far the points stand out of it.
 /// With `fix_minor`, the tube radius stays t0's (on a far, noisy handle only the ring is well
 /// determined). `body` is a cylinder, `t0` a torus.
+/// A handle is attached: a ring whose tube's centre line would stay outside the wall is refitted
+/// with it entering the wall by the tube radius (its distance from the axis = body radius + ring
+/// radius - tube radius): noisy points of the outer arc alone otherwise give a small ring off the wall.
 Segment refit_handle(const Segment& body, const Segment& t0, const std::vector<Eigen::Vector3d>& points,
                      bool fix_minor = false);
 

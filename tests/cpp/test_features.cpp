@@ -596,7 +596,7 @@ TEST(Features, UprightBodiesAreFoundInWavyStereoDepthWithoutNormals) {
     bench::score_synthetic(sf.truth, features::detect_primitives(cloud, normals, o, &sf.frame.color), "bottom-up",
                            bottom_up);
     o.upright_bodies = true;
-    o.up = table.normal;
+    o.support << table.normal, table.d;
     bench::score_synthetic(sf.truth, features::detect_primitives(cloud, normals, o, &sf.frame.color), "upright",
                            upright);
   }

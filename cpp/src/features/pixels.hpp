@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -116,12 +117,13 @@ void measure_bend(const Pixels& f, Segment& s);
 /// A segment's mean colour and hue over its pixels (nothing without a colour image).
 void set_color(Segment& s, const ColorImage* color);
 
-/// Upright cylinders (axis `up`, the support's normal), found without normals: circles in the
-/// support plane fitted to patches of points (features/upright.cpp), in the free pixels of `f` and
-/// those of the segments `out` found so far. At most `max_count` are appended to `out`, each with
-/// at least `min_support` pixels and a radius in [min_r, max_r]; one replaces the segments whose
-/// pixels it takes most of when it holds clearly more pixels than they did. Their pixels are taken.
-void search_upright(Pixels& f, const Eigen::Vector3d& up, std::vector<Segment>& out, int min_support, double min_r,
+/// Upright cylinders (standing on `support`: its normal and offset, DetectOptions::support),
+/// found without normals: circles in the support plane fitted to patches of points
+/// (features/upright.cpp), in the free pixels of `f` and those of the segments `out` found so far.
+/// At most `max_count` are appended to `out`, each with at least `min_support` pixels, a radius in
+/// [min_r, max_r] and its foot on the support; one replaces the segments whose pixels it takes
+/// most of when it holds clearly more pixels than they did. Their pixels are taken.
+void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,
                     double max_r, int max_count, const ColorImage* color);
 
 /// The model-driven handle search next to cylinder `body` over the pixels `region` (free ones

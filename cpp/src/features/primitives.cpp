@@ -543,7 +543,7 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
   auto out = search(f, bottom_up, nullptr, o.min_support, o.min_support_torus, o.min_radius, o.max_radius,
                     o.max_primitives, color);
   if (o.upright_bodies && wanted(o, PrimitiveClass::of<shapes::Cylinder>()))
-    detail::search_upright(f, o.up, out, o.min_support, o.min_radius, o.max_radius, o.max_primitives - int(out.size()),
+    detail::search_upright(f, o.support, out, o.min_support, o.min_radius, o.max_radius, o.max_primitives - int(out.size()),
                            color);
   if (top_down_tori) {
     // the top-down rule: a handle next to every cylinder that could be a body (the segments

@@ -48,6 +48,16 @@ constexpr int kMaxFailed = 6;
 /// Segments found bottom-up whose axis is within acos(kUprightCos) of up (10 degrees) are upright
 /// bodies already: no seeds are drawn on them.
 constexpr double kUprightCos = 0.985;
+/// Two bodies standing on the support cannot overlap: a circle that overlaps an upright body's by
+/// more than this (metres, the noise of two fits) is no body (a circle fitted to a mug's handle
+/// beside its body).
+constexpr double kOverlapTolerance = 0.005;
+/// The widest upright body looked for, metres (the container models' widest body): wider circles
+/// are the walls and furniture of a room.
+constexpr double kMaxUprightRadius = 0.15;
+/// A body stands on the support: the lowest of its points (the kFootQuantile-th of their heights)
+/// is at most kMaxFoot above it, metres (a chair's column stands on its base, above the floor).
+constexpr double kMaxFoot = 0.04, kFootQuantile = 0.05;
 
 struct Plane2 {
   Eigen::Vector3d up, e1, e2;
@@ -154,6 +164,19 @@ std::optional<shapes::Cone> upright_cone(const Plane2& pl, const std::vector<Eig
   return k;
 }
 
+/// The circle in the support plane of an upright cylinder or cone (its radius at its point).
+struct Circle {
+  Eigen::Vector2d c;
+  double r;
+};
+std::optional<Circle> upright_circle(const Plane2& pl, const Segment& s) {
+  const auto axis = s.direction();
+  if (!axis || std::abs(axis->normalized().dot(pl.up)) <= kUprightCos || s.inward) return std::nullopt;
+  if (const auto* c = s.get_if<shapes::Cylinder>()) return Circle{pl.of(c->point), c->radius};
+  if (const auto* k = s.get_if<shapes::Cone>()) return Circle{pl.of(k->point), k->radius};
+  return std::nullopt;
+}
+
 shapes::Cylinder upright_cylinder(const Plane2& pl, const Eigen::Vector2d& c, double r, double height_along) {
   shapes::Cylinder s;
   s.axis = pl.up;
@@ -164,9 +187,11 @@ shapes::Cylinder upright_cylinder(const Plane2& pl, const Eigen::Vector2d& c, do
 
 }  // namespace
 
-void search_upright(Pixels& f, const Eigen::Vector3d& up, std::vector<Segment>& out, int min_support, double min_r,
+void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,
                     double max_r, int max_count, const ColorImage* color) {
+  const Eigen::Vector3d up = support.head<3>();
   if (!(up.norm() > 0.5) || max_count <= 0) return;
+  max_r = std::min(max_r, kMaxUprightRadius);
   const Plane2 pl(up);
   DetectOptions local = f.o;
   local.normal_deviation_deg = std::max(f.o.normal_deviation_deg, kNormalDeviationDeg);
@@ -273,7 +298,8 @@ void search_upright(Pixels& f, const Eigen::Vector3d& up, std::vector<Segment>& 
       double zsum = 0;
       for (int i : pix) pts.push_back(g.raw(i)), zsum += pts.back().z();
       const auto& cyl = s.as<shapes::Cylinder>();
-      if (auto cone = upright_cone(pl, pts, kHuber * g.eps(zsum / double(pix.size())), pl.of(cyl.point), cyl.radius))
+      if (auto cone = upright_cone(pl, pts, kHuber * g.eps(zsum / double(pix.size())), pl.of(cyl.point), cyl.radius);
+          cone && cone->radius >= min_r && cone->radius <= max_r)
         s = Segment{Geometry(*cone)};
       pix = g.component(s, seed, 1);
     }
@@ -291,7 +317,25 @@ void search_upright(Pixels& f, const Eigen::Vector3d& up, std::vector<Segment>& 
     pix.erase(std::remove_if(pix.begin(), pix.end(),
                              [&](int i) { return owner[std::size_t(i)] >= 0 && !replaces[std::size_t(owner[std::size_t(i)])]; }),
               pix.end());
-    if (int(pix.size()) < min_support || double(pix.size()) < kReplace * double(replaced)) {
+    // a body stands on the support: its foot is near the plane
+    bool floating = true;
+    if (pix.size() >= 10) {
+      std::vector<double> heights;
+      heights.reserve(pix.size());
+      const double norm = up.norm();
+      for (int i : pix) heights.push_back((up.dot(g.raw(i)) + support(3)) / norm);
+      const auto q = heights.begin() + std::ptrdiff_t(kFootQuantile * double(heights.size()));
+      std::nth_element(heights.begin(), q, heights.end());
+      floating = *q > kMaxFoot;
+    }
+    // bodies standing on the support do not overlap (the ones it replaces aside)
+    bool overlaps = floating;
+    if (const auto mine = upright_circle(pl, s))
+      for (std::size_t k = 0; k < out.size() && !overlaps; ++k)
+        if (!dropped[k] && !replaces[k])
+          if (const auto other = upright_circle(pl, out[k]))
+            overlaps = (mine->c - other->c).norm() < mine->r + other->r - kOverlapTolerance;
+    if (overlaps || int(pix.size()) < min_support || double(pix.size()) < kReplace * double(replaced)) {
       seedable[std::size_t(seed)] = 0;
       for (int i : pix) seedable[std::size_t(i)] = 0;
       ++failed;

@@ -39,7 +39,10 @@ graph::NodeSpec detect_primitives_node() {
     return graph::NodeBody([d](graph::NodeContext& ctx) {
       features::DetectOptions q = d;
       if (ctx.has_input("roi")) q.roi = ctx.input<extension::Mask>("roi");
-      if (ctx.has_input("plane")) q.up = ctx.input<extension::SupportPlane>("plane").normal;
+      if (ctx.has_input("plane")) {
+        const auto& plane = ctx.input<extension::SupportPlane>("plane");
+        q.support << plane.normal, plane.d;
+      }
       const ColorImage* color = nullptr;
       if (ctx.has_input("frame")) {
         const Frame& frame = ctx.input<Frame>("frame");

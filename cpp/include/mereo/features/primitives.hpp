@@ -71,11 +71,11 @@ struct DetectOptions {
   /// Optional region of interest: pixels with a non-zero value are used (same size as the
   /// cloud); empty = all pixels.
   Image<std::uint8_t, 1> roi;
-  /// The support's normal (up, camera frame), when known: upright cylinders (bodies standing on
-  /// the support) are then also looked for without normals, after the bottom-up search, in the
-  /// pixels it left (noisy depth, e.g. active stereo beyond a metre, turns normals too far for
-  /// it). Zero = unknown.
-  Eigen::Vector3d up = Eigen::Vector3d::Zero();
+  /// The support plane (unit normal up, d: normal.dot(x) + d is the height above it; camera
+  /// frame), when known: upright cylinders (bodies standing on the support) are then also looked
+  /// for without normals, after the bottom-up search, in the pixels it left (noisy depth, e.g.
+  /// active stereo beyond a metre, turns normals too far for it). Zero = unknown.
+  Eigen::Vector4d support = Eigen::Vector4d::Zero();
   /// Look for upright bodies without normals where `up` is known (false: the bottom-up search only).
   bool upright_bodies = true;
   /// Focal length in pixels for the sampling window; 0 = fitted to the cloud.

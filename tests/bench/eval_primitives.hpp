@@ -67,12 +67,14 @@ struct SyntheticScore {
 /// Scores one synthetic frame. A body (a part "body" of class cylinder with at least
 /// `min_body_pixels` visible) is found when a detected cylinder has at least half of its
 /// pixels on it; its radius and axis errors are those of the largest such cylinder. A handle
-/// (a mug's "handle" with at least `min_handle_pixels` visible, its centre within 1.2 m) is found
+/// (a mug's "handle" with at least `min_handle_pixels` visible, its centre within
+/// `max_handle_distance`) is found
 /// when a detected torus has at least half of its pixels on it. A detected cylinder whose
 /// pixels are mostly not on a cylindrical part, or whose radius is more than 1 cm off that
 /// part's, is false; likewise a torus not mostly on a torus part.
 inline void score_synthetic(const synthetic::GroundTruth& gt, const std::vector<Segment>& found, const std::string& tag,
-                            SyntheticScore& acc, std::size_t min_body_pixels = 500, std::size_t min_handle_pixels = 150) {
+                            SyntheticScore& acc, std::size_t min_body_pixels = 500, std::size_t min_handle_pixels = 150,
+                            double max_handle_distance = 1.2) {
   ++acc.frames;
   std::map<std::uint32_t, const synthetic::PartTruth*> part_of;
   std::map<std::uint32_t, const synthetic::ObjectTruth*> object_of;
@@ -118,7 +120,7 @@ inline void score_synthetic(const synthetic::GroundTruth& gt, const std::vector<
         acc.axis_err_deg.push_back(axis_angle_deg(c.axis, p.camera.axis));
       }
       if (o.model == "mug" && p.role == "handle" && p.visible_pixels >= min_handle_pixels &&
-          p.camera.point.norm() <= 1.2) {
+          p.camera.point.norm() <= max_handle_distance) {
         ++acc.handles;
         const auto it = best_torus.find(p.label);
         if (it == best_torus.end()) {

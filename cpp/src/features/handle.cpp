@@ -322,5 +322,150 @@ std::vector<Segment> search_handles(Pixels& f, const Segment& body, const std::v
   return out;
 }
 
+namespace {
+
+/// What a handle's silhouette beside its body is (colour_handle): metres, shares.
+constexpr double kColourReach = 0.065;       ///< the zone: out to this beyond the wall
+constexpr double kBackgroundWidth = 0.02;    ///< ... and the background beyond it, this wide
+constexpr double kColourTolerance = 0.12;    ///< colour_distance to the body's colour
+constexpr double kColourContrast = 0.6;      ///< ... at most this share of the distance to the background's
+constexpr double kPlaneDepth = 0.04;         ///< a pixel's depth, where it has one, this near the plane
+constexpr double kMinReach = 0.025, kMaxReach = 0.062;  ///< how far the silhouette stands off the wall
+constexpr double kMinSpan = 0.025;           ///< its height span, and at most kMaxSpan of the body's
+constexpr double kMaxSpan = 0.95;
+constexpr double kMinFill = 0.15, kMaxFill = 0.7;  ///< of its box: a loop, not a block
+constexpr double kMaxBackgroundMatch = 0.3;  ///< the background beyond may look like the body this much
+constexpr int kMinColourPixels = 40;
+constexpr double kTube = 0.005;              ///< the torus's tube radius (a silhouette does not tell it)
+
+/// How unlike two colours (RGB, 0-1) are, little moved by shading: their chromaticities (each
+/// channel's share of the sum) apart, plus a quarter of their brightness apart.
+double colour_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+  const double sp = p.sum() + 1e-3, sq = q.sum() + 1e-3;
+  return (p / sp - q / sq).norm() + 0.25 * std::abs(sp - sq) / 3;
+}
+
+}  // namespace
+
+std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const ColorImage* color) {
+  if (!color || color->empty() || body.pixels.size() < 20 || !body.is<Cylinder>()) return std::nullopt;
+  const Cylinder& cyl = body.as<Cylinder>();
+  const int H = f.H, W = f.W;
+  // the principal point from the body's own pixels (organized: u = f x / z + cx)
+  double cx = 0, cy = 0;
+  int n = 0;
+  for (int i : body.pixels) {
+    const Eigen::Vector3d x = f.p(i);
+    if (!(x.z() > 0)) continue;
+    cx += (i % W) - f.focal * x.x() / x.z(), cy += (i / W) - f.focal * x.y() / x.z(), ++n;
+  }
+  if (n < 20) return std::nullopt;
+  cx /= n, cy /= n;
+  const auto colour_at = [&](int i) -> Eigen::Vector3d {  // (a value: not an expression of a temporary)
+    const std::uint8_t* c = color->data() + 3 * std::size_t(i);
+    return Eigen::Vector3d(c[0], c[1], c[2]) / 255.0;
+  };
+  Eigen::Vector3d body_colour = Eigen::Vector3d::Zero();
+  for (int i : body.pixels) body_colour += colour_at(i);
+  body_colour /= double(body.pixels.size());
+  const Eigen::Vector3d a = cyl.axis.normalized(), c = cyl.point;
+  const Eigen::Vector3d w0 = a.cross(c.normalized()).normalized();  // towards a limb
+  const double r = cyl.radius, half = 0.5 * cyl.height;
+  const double step = 0.5 * c.z() / f.focal;  // half a pixel at the body
+  auto pixel_of = [&](const Eigen::Vector3d& x) -> int {
+    if (!(x.z() > 0)) return -1;
+    const int u = int(std::lround(f.focal * x.x() / x.z() + cx)), v = int(std::lround(f.focal * x.y() / x.z() + cy));
+    return u < 0 || v < 0 || u >= W || v >= H ? -1 : v * W + u;
+  };
+  struct Zone {
+    double t, rho;
+    Eigen::Vector3d x;
+  };
+  std::optional<Segment> best;
+  std::size_t best_count = 0;
+  for (const double side : {1.0, -1.0}) {
+    const Eigen::Vector3d w = side * w0;
+    std::unordered_map<int, Zone> zone;
+    std::vector<int> background;
+    for (double t = -half + 0.05 * cyl.height; t <= half - 0.03 * cyl.height; t += step)
+      for (double rho = r + step; rho <= r + kColourReach + kBackgroundWidth; rho += step) {
+        const Eigen::Vector3d x = c + a * t + w * rho;
+        const int i = pixel_of(x);
+        if (i < 0) continue;
+        if (rho <= r + kColourReach) zone.emplace(i, Zone{t, rho, x});
+        else background.push_back(i);
+      }
+    if (zone.empty() || background.empty()) continue;
+    std::sort(background.begin(), background.end());
+    background.erase(std::unique(background.begin(), background.end()), background.end());
+    background.erase(std::remove_if(background.begin(), background.end(), [&](int i) { return zone.count(i) > 0; }),
+                     background.end());
+    if (background.size() < 10) continue;
+    Eigen::Vector3d bg = Eigen::Vector3d::Zero();
+    for (int i : background) bg += colour_at(i);
+    bg /= double(background.size());
+    auto like_body = [&](int i) {
+      const Eigen::Vector3d q = colour_at(i);
+      const double db = colour_distance(q, body_colour);
+      return db < kColourTolerance && db < kColourContrast * colour_distance(q, bg);
+    };
+    int background_like = 0;
+    for (int i : background) background_like += like_body(i);
+    if (background_like > kMaxBackgroundMatch * double(background.size())) continue;
+    // the handle's pixels: the body's colour, depth near the plane or none, connected to the wall
+    std::unordered_map<int, bool> handle;
+    for (const auto& [i, z] : zone) {
+      const Eigen::Vector3d x = f.p(i);
+      const bool depth_ok = !(x.z() > 0) || std::abs(x.z() - z.x.z()) < kPlaneDepth;
+      handle[i] = depth_ok && like_body(i);
+    }
+    std::vector<int> stack, comp;
+    std::unordered_map<int, bool> seen;
+    for (const auto& [i, z] : zone)
+      if (handle[i] && z.rho <= r + 3 * step + 0.004) stack.push_back(i), seen[i] = true;
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      comp.push_back(i);
+      const int u = i % W, v = i / W;
+      for (int dv = -1; dv <= 1; ++dv)
+        for (int du = -1; du <= 1; ++du) {
+          const int uu = u + du, vv = v + dv;
+          if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+          const int j = vv * W + uu;
+          const auto it = handle.find(j);
+          if (it != handle.end() && it->second && !seen[j]) seen[j] = true, stack.push_back(j);
+        }
+    }
+    if (int(comp.size()) < kMinColourPixels) continue;
+    double tmin = INFINITY, tmax = -INFINITY, rmax = 0;
+    for (int i : comp) {
+      const Zone& z = zone.at(i);
+      tmin = std::min(tmin, z.t), tmax = std::max(tmax, z.t), rmax = std::max(rmax, z.rho);
+    }
+    const double reach = rmax - r, span = tmax - tmin;
+    std::size_t boxed = 0;
+    for (const auto& [i, z] : zone) boxed += z.t >= tmin && z.t <= tmax && z.rho <= rmax;
+    const double fill = double(comp.size()) / double(std::max<std::size_t>(1, boxed));
+    if (reach < kMinReach || reach > kMaxReach || span < kMinSpan || span > kMaxSpan * cyl.height || fill < kMinFill ||
+        fill > kMaxFill || comp.size() <= best_count)
+      continue;
+    Torus t;
+    t.minor_radius = kTube;
+    t.major_radius = std::max(0.012, 0.5 * span - kTube);
+    const double d = std::min(r + reach - t.major_radius - kTube, r + t.major_radius - kTube);  // attached
+    t.center = c + a * (0.5 * (tmin + tmax)) + w * d;
+    t.normal = a.cross(w).normalized();
+    Segment s{Geometry(t)};
+    std::sort(comp.begin(), comp.end());
+    s.inliers = comp.size();
+    s.pixels = std::move(comp);
+    set_color(s, color);
+    best_count = s.pixels.size();
+    best = std::move(s);
+  }
+  return best;
+}
+
 }  // namespace detail
 }  // namespace mereo::features

@@ -126,6 +126,14 @@ void set_color(Segment& s, const ColorImage* color);
 void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,
                     double max_r, int max_count, const ColorImage* color);
 
+/// A handle seen in the colour image beside `body`'s silhouette, where the depth has little of it
+/// (a thin tube beyond a metre: stereo depth loses or fattens it): the pixels of the half-planes
+/// through the axis at the body's two limbs, out to a handle's reach, that have the body's colour
+/// and not the background's, and depth near that plane or none, connected to the silhouette, and
+/// shaped as a handle is (reach, height span, a loop that does not fill its box). Returns a torus
+/// in that plane, attached to the wall, with those pixels; nothing without a colour image.
+std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const ColorImage* color);
+
 /// The model-driven handle search next to cylinder `body` over the pixels `region` (free ones
 /// count), with the options' HandleOptions (features/handle.hpp): at most `max_count` handles, each
 /// with at least `min_support` pixels, plausible within `limits`; their pixels are taken.

@@ -573,6 +573,8 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
         }
       }
       auto found = find_in(f, torus, region, o, color, 1);
+      if (found.empty() && h.from_colour)
+        if (auto t = detail::colour_handle(f, out[k], color)) found.push_back(std::move(*t));
       for (std::size_t j : offered) {
         std::size_t shared = 0;
         for (const auto& t : found)

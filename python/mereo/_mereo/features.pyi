@@ -19,10 +19,12 @@ def detect_primitives(cloud: typing.Any, normals: typing.Any, roi: typing.Any = 
         min_support (int, default 250, 10..1e+07): fewest pixels of a segment
         min_support_torus (int, default 80, 10..1e+07): fewest pixels of a torus
         max_primitives (int, default 64, 1..10000): at most this many segments
+        upright_bodies (bool, default true): given the support plane, also look for upright cylinders without normals (noisy depth)
         fit_along_rays (bool, default true): fit cylinders and spheres along the rays (depth noise along them); false: by geometric distance
         handles_near_cylinders (bool, default true): look for a torus next to every cylinder
         handle_body_min_radius (float, default 0.02, 0..1): ... whose radius is at least this, metres
         handle_body_max_radius (float, default 0.08, 0..1): ... and at most this
+        handles_from_colour (bool, default true): where the depth shows no handle, look for its silhouette beside the body in the colour image
         max_handle_turn_deg (float, default 25, 0..90): a ring that fits better turned more than this from its body's axis is not a handle (90: no check)
     """
 def label_image(segments: collections.abc.Sequence[...], rows: typing.SupportsInt, cols: typing.SupportsInt) -> numpy.typing.NDArray[numpy.int32]:

@@ -21,6 +21,7 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         cloud (Cloud): organized XYZ cloud
         normals (NormalMap): per-pixel normals
         roi (Mask, optional): only these pixels (e.g. above the table)
+        plane (SupportPlane, optional): the support: upright bodies on it are also looked for without normals
         frame (Frame, optional): the frame of the cloud: the segments' colour, its camera's focal length
         unfiltered (Cloud, optional): the cloud before depth filtering: cylinders and spheres are measured on it
     Outputs:
@@ -33,10 +34,12 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         min_support (int, default 250, 10..1e+07): fewest pixels of a segment
         min_support_torus (int, default 80, 10..1e+07): fewest pixels of a torus
         max_primitives (int, default 64, 1..10000): at most this many segments
+        upright_bodies (bool, default true): given the support plane, also look for upright cylinders without normals (noisy depth)
         fit_along_rays (bool, default true): fit cylinders and spheres along the rays (depth noise along them); false: by geometric distance
         handles_near_cylinders (bool, default true): look for a torus next to every cylinder
         handle_body_min_radius (float, default 0.02, 0..1): ... whose radius is at least this, metres
         handle_body_max_radius (float, default 0.08, 0..1): ... and at most this
+        handles_from_colour (bool, default true): where the depth shows no handle, look for its silhouette beside the body in the colour image
         max_handle_turn_deg (float, default 25, 0..90): a ring that fits better turned more than this from its body's axis is not a handle (90: no check)
     """
 def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
@@ -110,6 +113,7 @@ def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
         min_posterior (float, default 0.5, 0..1): nor below this posterior
         list_score (float, default 0.3, 0..1): alternatives at or above this are listed
         min_coverage (float, default 0.5, 0..1): an object's parts' least share of its region
+        min_free_form_coverage (float, default 0.9, 0..1): the least share of an object made of free-form regions
         depth_jump (float, default 0.02, 0.001..1): a depth step (times the depth) that separates regions
         reach (float, default 0.02, 0..1): a region's reach beyond its object's extent, metres
         min_unknown_pixels (int, default 800, 0..1e+07): least pixels of an unknown object (0: none)

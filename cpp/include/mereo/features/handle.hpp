@@ -21,6 +21,10 @@
 //  5. it is no handle when its ring would rather turn its plane away from the body's axis (more
 //     than `max_turn_deg`, with a residual under `turn_residual_ratio` of the held one: a ring
 //     leaning on a jar).
+// Where the depth shows no handle, its silhouette is looked for in the colour image (`from_colour`,
+// detail::colour_handle in features/pixels.hpp): beside the body's limbs, in the body's colour and
+// not the background's, shaped as a handle (reach, height span, a loop that does not fill its box);
+// a torus in that plane, attached to the wall, stands for it.
 #pragma once
 
 #include <vector>
@@ -66,6 +70,9 @@ struct HandleOptions {
   /// plane turned more than this about the body's axis is no handle; degrees, 90 = no check.
   double max_turn_deg = 25.0;
   double turn_residual_ratio = 0.6;
+  /// Where the depth shows no handle next to a body, look for its silhouette beside the body in
+  /// the colour image (detail::colour_handle: thin tubes beyond a metre lose their depth).
+  bool from_colour = true;
 
   /// A handle's tube and ring radii are within the ranges (the tracker's refits).
   bool plausible(const Segment& t) const;
@@ -91,6 +98,8 @@ inline const Fields<HandleOptions>& HandleOptions::fields() {
       field("handles_near_cylinders", &O::search_near_cylinders, "look for a torus next to every cylinder"),
       field("handle_body_min_radius", &O::body_min_radius, 0, 1, "... whose radius is at least this, metres"),
       field("handle_body_max_radius", &O::body_max_radius, 0, 1, "... and at most this"),
+      field("handles_from_colour", &O::from_colour,
+            "where the depth shows no handle, look for its silhouette beside the body in the colour image"),
       field("max_handle_turn_deg", &O::max_turn_deg, 0, 90,
             "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"),
   };

@@ -570,6 +570,31 @@ TEST(Features, ASphereKnowsWhereOnItItWasSeen) {
   EXPECT_NEAR(s.transformed(T).as<shapes::Sphere>().cap.dot(-up), -2 / M_PI, 0.02);
 }
 
+// A rendered frame with the renderer's active-stereo depth, taken through the tabletop graph's
+// steps up to the primitives (3x3 depth filter, fast normals, support plane, the region above it,
+// curved shapes measured on the unfiltered points): the detector's inputs and options.
+struct StereoTabletop {
+  synthetic::SyntheticFrame sf;
+  Cloud cloud;
+  NormalMap normals;
+  features::DetectOptions o;
+};
+StereoTabletop stereo_tabletop(std::uint64_t seed) {
+  synthetic::SceneOptions so;
+  so.depth_model = synthetic::DepthModel::Stereo;
+  signal::DepthFilterOptions fo;
+  fo.radius = 1;
+  StereoTabletop t{synthetic::render(seed, so), {}, {}, {}};
+  t.cloud = extension::back_project(signal::filter_depth(t.sf.frame, fo));
+  t.normals = extension::estimate_normals(t.cloud);
+  const auto table = extension::find_support_plane(t.cloud, t.normals);
+  t.o.roi = table.roi;
+  t.o.unfiltered = extension::back_project(t.sf.frame);
+  t.o.support << table.normal, table.d;
+  t.o.focal_px = t.sf.frame.intrinsics.fx;
+  return t;
+}
+
 // Upright bodies without normals (features/upright.cpp): with the renderer's active-stereo depth
 // (wavy at a metre: errors of ~9 mm correlated over ~9 pixels) the normals of a mug or a can turn
 // too far for the bottom-up search, which misses many bodies; given the support's normal, the
@@ -577,28 +602,16 @@ TEST(Features, ASphereKnowsWhereOnItItWasSeen) {
 // the tabletop graph's (3x3 depth filter, fast normals, support plane, the region above it, bodies
 // measured on the unfiltered points). Seeds 940-951 were used for nothing else.
 TEST(Features, UprightBodiesAreFoundInWavyStereoDepthWithoutNormals) {
-  synthetic::SceneOptions so;
-  so.depth_model = synthetic::DepthModel::Stereo;
-  signal::DepthFilterOptions fo;
-  fo.radius = 1;
   bench::SyntheticScore bottom_up, upright;
   for (std::uint64_t seed = 940; seed < 952; ++seed) {
-    const auto sf = synthetic::render(seed, so);
-    const Cloud cloud = extension::back_project(signal::filter_depth(sf.frame, fo));
-    const NormalMap normals = extension::estimate_normals(cloud);
-    const auto table = extension::find_support_plane(cloud, normals);
-    features::DetectOptions o;
-    o.roi = table.roi;
-    o.unfiltered = extension::back_project(sf.frame);
-    o.classes = {PrimitiveClass::of<shapes::Plane>(), PrimitiveClass::of<shapes::Cylinder>(),
-                 PrimitiveClass::of<shapes::Cone>(), PrimitiveClass::of<shapes::Sphere>()};
-    o.upright_bodies = false;
-    bench::score_synthetic(sf.truth, features::detect_primitives(cloud, normals, o, &sf.frame.color), "bottom-up",
-                           bottom_up);
-    o.upright_bodies = true;
-    o.support << table.normal, table.d;
-    bench::score_synthetic(sf.truth, features::detect_primitives(cloud, normals, o, &sf.frame.color), "upright",
-                           upright);
+    auto t = stereo_tabletop(seed);
+    t.o.classes = {PrimitiveClass::of<shapes::Plane>(), PrimitiveClass::of<shapes::Cylinder>(),
+                   PrimitiveClass::of<shapes::Cone>(), PrimitiveClass::of<shapes::Sphere>()};
+    for (const bool on : {false, true}) {
+      t.o.upright_bodies = on;
+      bench::score_synthetic(t.sf.truth, features::detect_primitives(t.cloud, t.normals, t.o, &t.sf.frame.color),
+                             on ? "upright" : "bottom-up", on ? upright : bottom_up);
+    }
   }
   const std::string figures = "body recall: bottom-up " + std::to_string(bottom_up.body_recall()) + ", with the upright search " +
                               std::to_string(upright.body_recall()) + " of " + std::to_string(upright.bodies) +
@@ -618,27 +631,14 @@ TEST(Features, UprightBodiesAreFoundInWavyStereoDepthWithoutNormals) {
 // colour image than without (at least half of a torus's pixels on a handle: bench::score_synthetic,
 // handles within 1.5 m), and hardly more tori elsewhere.
 TEST(Features, HandlesBesideTheBodyAreFoundInTheColourImageWhereDepthLosesThem) {
-  synthetic::SceneOptions so;
-  so.depth_model = synthetic::DepthModel::Stereo;
-  signal::DepthFilterOptions fo;
-  fo.radius = 1;
   bench::SyntheticScore depth_only, with_colour;
   for (std::uint64_t seed = 960; seed < 990; ++seed) {
-    const auto sf = synthetic::render(seed, so);
-    const Cloud cloud = extension::back_project(signal::filter_depth(sf.frame, fo));
-    const NormalMap normals = extension::estimate_normals(cloud);
-    const auto table = extension::find_support_plane(cloud, normals);
-    features::DetectOptions o;
-    o.roi = table.roi;
-    o.unfiltered = extension::back_project(sf.frame);
-    o.support << table.normal, table.d;
-    o.focal_px = sf.frame.intrinsics.fx;
-    o.handle.from_colour = false;
-    bench::score_synthetic(sf.truth, features::detect_primitives(cloud, normals, o, &sf.frame.color), "depth", depth_only,
-                           500, 150, 1.5);
-    o.handle.from_colour = true;
-    bench::score_synthetic(sf.truth, features::detect_primitives(cloud, normals, o, &sf.frame.color), "colour", with_colour,
-                           500, 150, 1.5);
+    auto t = stereo_tabletop(seed);
+    for (const bool on : {false, true}) {
+      t.o.handle.from_colour = on;
+      bench::score_synthetic(t.sf.truth, features::detect_primitives(t.cloud, t.normals, t.o, &t.sf.frame.color),
+                             on ? "colour" : "depth", on ? with_colour : depth_only, 500, 150, 1.5);
+    }
   }
   const std::string figures = "handle recall: depth only " + std::to_string(depth_only.handle_recall()) + ", with colour " +
                               std::to_string(with_colour.handle_recall()) + " of " + std::to_string(with_colour.handles) +

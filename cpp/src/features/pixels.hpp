@@ -126,6 +126,12 @@ void set_color(Segment& s, const ColorImage* color);
 void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,
                     double max_r, int max_count, const ColorImage* color);
 
+/// The bodies of `out` found bottom-up whose axis leans a little from `support`'s normal, refitted
+/// with the axis held to it (features/upright.cpp): a standing body's axis is the support's normal,
+/// and one side of a cylinder in wavy stereo depth fits a cone with a leaning axis. A held cylinder
+/// or cone (radius in [min_r, max_r]) replaces a segment when it fits its points about as well.
+void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r);
+
 /// A handle seen in the colour image beside `body`'s silhouette, where the depth has little of it
 /// (a thin tube beyond a metre: stereo depth loses or fattens it): the pixels of the half-planes
 /// through the axis at the body's two limbs, out to a handle's reach, that have the body's colour

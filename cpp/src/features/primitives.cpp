@@ -542,9 +542,11 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
     if (wanted(o, c) && c.sample_size() > 0 && !(c == torus && top_down_tori)) bottom_up.push_back(c);
   auto out = search(f, bottom_up, nullptr, o.min_support, o.min_support_torus, o.min_radius, o.max_radius,
                     o.max_primitives, color);
-  if (o.upright_bodies && wanted(o, PrimitiveClass::of<shapes::Cylinder>()))
+  if (o.upright_bodies && wanted(o, PrimitiveClass::of<shapes::Cylinder>())) {
+    detail::hold_upright(f, o.support, out, o.min_radius, o.max_radius);
     detail::search_upright(f, o.support, out, o.min_support, o.min_radius, o.max_radius, o.max_primitives - int(out.size()),
                            color);
+  }
   if (top_down_tori) {
     // the top-down rule: a handle next to every cylinder that could be a body (the segments
     // found so far keep their pixels: they are taken in f)

@@ -37,10 +37,16 @@ constexpr double kNormalDeviationDeg = 60.0;
 /// residuals, times the inlier distance.
 constexpr int kRefits = 3;
 constexpr double kHuber = 0.5;
-/// An upright cone replaces the cylinder when its robust residual is under this share of the
-/// cylinder's (as the detector's cone refinement: kRefineResidual in primitives.cpp).
-constexpr double kConeResidual = 0.96;
-constexpr double kMinTaper = 3.0 * M_PI / 180;
+/// An upright cone replaces the cylinder when it tapers by at least kMinTaper and its robust
+/// (Huber) cost is under kConeCost of the cylinder's. Stereo depth gives true cylinders held
+/// upright tapers of 3-8 degrees at costs of 0.7-0.9 of the cylinder's (a handle's roots, the
+/// rim); the renderer's tapered cups (4-10 degrees) fit at 0.01-0.6 on most frames.
+constexpr double kConeCost = 0.7;
+constexpr double kMinTaper = 4.0 * M_PI / 180;
+/// hold_upright: bodies found bottom-up whose axis is within acos(kHoldCos) of up (20 degrees) are
+/// refitted with the axis held, but for cylinders within acos(kHeldCos) (2 degrees) already; the
+/// held fit replaces the free one when its robust cost is at most kHoldWorse times the free one's.
+constexpr double kHoldCos = 0.94, kHeldCos = 0.9994, kHoldWorse = 1.25;
 /// An upright cylinder replaces earlier segments when it holds this many times their pixels.
 constexpr double kReplace = 1.3;
 /// The search stops after this many rounds in a row whose best candidate did not hold.
@@ -117,8 +123,8 @@ void refit_circle(const std::vector<Eigen::Vector2d>& q, double huber, Eigen::Ve
 
 /// The upright cone that fits the points better than the cylinder (c, r) does, if one does: the
 /// distance from the axis grows linearly with height, r + k t (t from the points' mean height
-/// `t0`), fitted by Gauss-Newton with Huber weights; it is kept when its taper is at least the
-/// cone's min_departure and its robust residual under kConeResidual of the cylinder's.
+/// `t0`), fitted by Gauss-Newton with Huber weights; it is kept when its taper is at least
+/// kMinTaper and its robust cost under kConeCost of the cylinder's.
 std::optional<shapes::Cone> upright_cone(const Plane2& pl, const std::vector<Eigen::Vector3d>& pts, double huber,
                                          const Eigen::Vector2d& c0, double r0) {
   if (pts.size() < 20) return std::nullopt;
@@ -154,7 +160,7 @@ std::optional<shapes::Cone> upright_cone(const Plane2& pl, const std::vector<Eig
   }
   const double angle = std::atan(std::abs(p(3)));
   if (!(p(2) > 0) || angle < kMinTaper || angle > shapes::Cone::kMaxAngle ||
-      !(cost(p) < kConeResidual * kConeResidual * cylinder_cost))
+      !(cost(p) < kConeCost * cylinder_cost))
     return std::nullopt;
   shapes::Cone k;
   k.axis = p(3) > 0 ? pl.up : Eigen::Vector3d(-pl.up);
@@ -185,7 +191,59 @@ shapes::Cylinder upright_cylinder(const Plane2& pl, const Eigen::Vector2d& c, do
   return s;
 }
 
+/// The robust (Huber, width `huber`) cost of the points against the surface of s.
+double huber_cost(const Segment& s, const std::vector<Eigen::Vector3d>& pts, double huber) {
+  double sum = 0;
+  for (const auto& x : pts) {
+    const double res = std::abs(s.signed_distance(x));
+    sum += res <= huber ? res * res : huber * (2 * res - huber);
+  }
+  return sum;
+}
+
 }  // namespace
+
+void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r) {
+  const Eigen::Vector3d up = support.head<3>();
+  if (!(up.norm() > 0.5)) return;
+  const Plane2 pl(up);
+  for (Segment& s : out) {
+    const auto axis = s.direction();
+    if (!axis || s.inward || !(s.is<shapes::Cylinder>() || s.is<shapes::Cone>()) || s.pixels.size() < 20) continue;
+    const double c = std::abs(axis->normalized().dot(pl.up));
+    if (c < kHoldCos || (s.is<shapes::Cylinder>() && c > kHeldCos)) continue;
+    std::vector<Eigen::Vector3d> pts;
+    std::vector<Eigen::Vector2d> q;
+    pts.reserve(s.pixels.size()), q.reserve(s.pixels.size());
+    double along = 0, zsum = 0;
+    for (int i : s.pixels) {
+      pts.push_back(f.raw(i));
+      q.push_back(pl.of(pts.back())), along += pl.up.dot(pts.back()), zsum += pts.back().z();
+    }
+    const double n = double(pts.size()), huber = kHuber * f.eps(zsum / n);
+    // the circle where the free fit's axis meets the points' mean height
+    const Eigen::Vector3d o = s.origin(), a = axis->normalized();
+    const double t = (along / n - pl.up.dot(o)) / a.dot(pl.up);
+    Eigen::Vector2d centre = pl.of(o + t * a);
+    double r = s.is<shapes::Cylinder>() ? s.as<shapes::Cylinder>().radius : s.as<shapes::Cone>().radius_at(t);
+    refit_circle(q, huber, centre, r);
+    if (!(r >= min_r && r <= max_r)) continue;
+    Segment held{Geometry(upright_cylinder(pl, centre, r, along / n))};
+    if (auto cone = upright_cone(pl, pts, huber, centre, r); cone && cone->radius >= min_r && cone->radius <= max_r)
+      held.shape = Geometry(*cone);
+    // it may fit a little worse: the noise leaned the free fit (a tapered cup found bottom-up as
+    // a leaning cylinder is a cone once held; so are a few jars, whose lid tells them apart)
+    if (!(huber_cost(held, pts, huber) <= kHoldWorse * huber_cost(s, pts, huber))) continue;
+    // the same pixels, the held shape (its ends and bend are measured after, as every segment's)
+    s.shape = held.shape;
+    std::vector<Eigen::Vector3d> seen;  // its extent as describe() takes it: on the cloud's points
+    seen.reserve(s.pixels.size());
+    for (int i : s.pixels) seen.push_back(f.p(i));
+    set_extent(s, seen);
+    s.visit([](auto& g) { g.canonical(); });
+    set_residual(s, pts);
+  }
+}
 
 void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,
                     double max_r, int max_count, const ColorImage* color) {

@@ -20,6 +20,28 @@ struct Grid {
   }
 };
 
+/// Whether x lies within `tol` of the surface of a part: an axial one's wall (within its extent),
+/// a sphere, a torus, with its normal (when there is one) within acos(min_cos) of the surface's.
+/// Planes and free-form regions explain only their own pixels, and so do an axial part's end
+/// discs: a lid counted so made the flat top of a rounded box explain it.
+bool near_part(const Segment& s, const Eigen::Vector3d& x, double tol, const float* normal, double min_cos) {
+  Eigen::Vector3d n;
+  double dist = 0;
+  if (const auto* c = s.get_if<shapes::Cylinder>()) {
+    if (std::abs(c->axis.dot(x - c->point)) > c->height / 2 + tol) return false;
+    dist = c->signed_distance(x, &n);
+  } else if (const auto* k = s.get_if<shapes::Cone>()) {
+    if (std::abs(k->axis.dot(x - k->point)) > k->height / 2 + tol) return false;
+    dist = k->signed_distance(x, &n);
+  } else if (s.is<shapes::Sphere>() || s.is<shapes::Torus>()) {
+    dist = s.signed_distance(x, &n);
+  } else {
+    return false;
+  }
+  if (std::abs(dist) > tol) return false;
+  return !normal || !std::isfinite(normal[0]) || std::abs(n.x() * normal[0] + n.y() * normal[1] + n.z() * normal[2]) >= min_cos;
+}
+
 }  // namespace
 
 void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<Segment>& segments,
@@ -108,15 +130,35 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
       const double d = (w.head<2>() - c).norm();
       return w.z() >= foot - o.reach && d <= radius + o.reach && (d <= radius || w.z() >= foot + o.reach);
     });
-    objects[a].coverage = double(pixels[a].size()) / double(std::max<std::size_t>(1, region.size()));
+    // the region's pixels near the object's parts count with its own (noisy depth)
+    std::size_t explained = pixels[a].size();
+    const double min_cos = std::cos(o.surface_normal_deg * M_PI / 180);
+    if (o.surface_tolerance > 0)
+      for (int j : region) {
+        if (owner[std::size_t(j)] == int(a)) continue;
+        const Eigen::Vector3d x = g.p(j);
+        const double tol = o.surface_tolerance * std::clamp(x.z() * x.z(), 1.0, 2.0);
+        for (const auto& part : objects[a].parts)
+          if (near_part(segments.at(std::size_t(part.second)), x, tol, normals ? normals->ptr(j / W, j % W) : nullptr, min_cos)) {
+            ++explained;
+            break;
+          }
+      }
+    // its parts' pixels must explain min_coverage of the region, or with those near them
+    // min_surface_coverage (noisy depth: the tolerant share, the stricter test)
+    const double n = double(std::max<std::size_t>(1, region.size()));
+    const double own = double(pixels[a].size()) / n;
+    objects[a].coverage = double(explained) / n;
     // a free-form region is its object's whole region; one that explains less was cut (at a
     // silhouette) from something larger: a part of it (a drill's grip), not an object
     const double min_coverage = free_form[a] ? o.min_free_form_coverage : o.min_coverage;
-    if (objects[a].coverage < min_coverage) {
-      char why[160];
-      std::snprintf(why, sizeof why, "explains %.0f%% of its region (%zu of %zu pixels; at least %.0f%%): not a %s",
-                    100 * objects[a].coverage, pixels[a].size(), region.size(), 100 * min_coverage,
-                    objects[a].model.c_str());
+    if (own < min_coverage && (free_form[a] || objects[a].coverage < o.min_surface_coverage)) {
+      char why[200];
+      std::snprintf(why, sizeof why,
+                    "explains %.0f%% of its region (%zu of %zu pixels; at least %.0f%%), %.0f%% with the pixels near it "
+                    "(at least %.0f%%): not a %s",
+                    100 * own, pixels[a].size(), region.size(), 100 * min_coverage, 100 * objects[a].coverage,
+                    100 * o.min_surface_coverage, objects[a].model.c_str());
       reject(a, why);
     } else {
       for (int i : region) region_of[std::size_t(i)] = int(a);

@@ -23,8 +23,9 @@ namespace mereo::matching {
 /// place of an earlier one or do not explain their region (accepted = false, `rejected` says why,
 /// `coverage` set on every accepted one), then appends the unexplained
 /// regions of `plane.roi` as objects of model "unknown" (not accepted, with their `region`).
-/// The thresholds are InterpretOptions' min_coverage, depth_jump, reach and min_unknown_pixels;
-/// with `normals`, the silhouettes (max_grazing_deg) separate unknown regions that touch.
+/// The thresholds are InterpretOptions' min_coverage (min_surface_coverage), depth_jump, reach and
+/// min_unknown_pixels; with `normals`, the silhouettes (max_grazing_deg) separate unknown regions
+/// that touch.
 /// `cloud` is the frame's organized cloud; pixel indices are row-major. Deterministic.
 void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<Segment>& segments,
                      const Cloud& cloud, const extension::SupportPlane& plane, const InterpretOptions& options = {},

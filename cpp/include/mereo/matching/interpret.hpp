@@ -46,12 +46,24 @@ struct InterpretOptions {
   double list_score = 0.3;         ///< alternatives at or above this are listed (not accepted)
   // explain_regions (explain.hpp), when the node has the frame's cloud and support plane:
   double min_coverage = 0.5;       ///< an accepted object's parts' least share of its region
+  /// ... or, counting the pixels near its parts' surfaces (surface_tolerance, surface_normal_deg)
+  /// with theirs, this share (wavy stereo depth leaves a body's inliers sparse). Rendered stereo
+  /// seeds 6000-6099: most true objects explain 0.74-1.0 so, cylinders on free-form distractors
+  /// 0.28-0.77; real Kinect frames (mOSD) 0.41-0.8 with inliers covering over half.
+  double min_surface_coverage = 0.7;
   /// ... of an object made of free-form regions only (they are whole regions: true bottles
   /// explain 0.97-1.0 of theirs on rendered and real frames, a drill's grip cut off at a
   /// silhouette 0.54)
   double min_free_form_coverage = 0.9;
   double depth_jump = 0.02;        ///< neighbours further apart in depth (times it) are not connected
   double reach = 0.02;             ///< a region reaches this far (metres) beyond its object's extent
+  /// A region's pixel within this of the surface of one of the object's axial (within its
+  /// extent), spherical or toroidal parts is near it (min_surface_coverage). Metres at 1 m,
+  /// growing with depth squared up to twice that.
+  double surface_tolerance = 0.006;
+  /// ... and, where the frame has normals, its normal within this of the part's (degrees): the
+  /// flat face of a rounded box beside a cylinder fitted to its rounded edge is none.
+  double surface_normal_deg = 45;
   int min_unknown_pixels = 800;    ///< unexplained regions this big are unknown objects (0: none)
   /// With normals: pixels seen at more than this angle to their ray (an object's silhouette,
   /// where it meets what lies behind it without a depth jump) join no unknown region.
@@ -68,10 +80,16 @@ inline const Fields<InterpretOptions>& InterpretOptions::fields() {
       field("min_posterior", &O::min_posterior, 0, 1, "nor below this posterior"),
       field("list_score", &O::list_score, 0, 1, "alternatives at or above this are listed"),
       field("min_coverage", &O::min_coverage, 0, 1, "an object's parts' least share of its region"),
+      field("min_surface_coverage", &O::min_surface_coverage, 0, 1,
+            "... or with the pixels near its parts' surfaces, this share"),
       field("min_free_form_coverage", &O::min_free_form_coverage, 0, 1,
             "the least share of an object made of free-form regions"),
       field("depth_jump", &O::depth_jump, 0.001, 1, "a depth step (times the depth) that separates regions"),
       field("reach", &O::reach, 0, 1, "a region's reach beyond its object's extent, metres"),
+      field("surface_tolerance", &O::surface_tolerance, 0, 1,
+            "a region's pixels this near an object's part (metres at 1 m) are explained by it"),
+      field("surface_normal_deg", &O::surface_normal_deg, 0, 90,
+            "... with normals within this of the part's (degrees)"),
       field("min_unknown_pixels", &O::min_unknown_pixels, 0, 1e7, "least pixels of an unknown object (0: none)"),
       field("max_grazing_deg", &O::max_grazing_deg, 0, 90, "with normals: pixels seen more obliquely join no unknown region"),
   };

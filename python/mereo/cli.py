@@ -7,6 +7,7 @@
   mereo info INPUT...                          what the inputs hold (size, depth range, camera)
   mereo recognize INPUT... [--models NAME_OR_FILE...] [--goal NAME] [--out FILE.jsonl]
                   [--overlay DIR] [--graph FILE] [--intrinsics ...] [--depth-scale S]
+                  [--workers N | --scheduler ADDRESS] [--resume]
                                                recognized objects, one JSON line per frame
   mereo evaluate RESULTS.jsonl GROUND_TRUTH...  precision, recall and errors per model, results
                                                on free-form distractors per frame
@@ -229,12 +230,89 @@ def _models_arg(values):
     return names, (files[0] if files else "")
 
 
+def _recognize_batch(args, names) -> int:
+    """--workers N, --scheduler ADDRESS, --resume: mereo.batch (one task per sequence, single frames
+    in chunks) on a local Dask cluster, a remote one, or here; JSON lines written as tasks finish."""
+    import time
+
+    from . import batch
+
+    if args.overlay or args.graph or args.odometry:
+        raise _mereo.InputError("--overlay, --graph and --odometry are not available with --workers, --scheduler or --resume")
+    if args.resume and not args.out:
+        raise _mereo.InputError("--resume needs --out FILE (the results it goes on from)")
+    inputs = [list(args.inputs)] if args.sequence else list(args.inputs)
+    open_options = dict(intrinsics=args.intrinsics, depth_scale=args.depth_scale, depth_format=args.depth_format,
+                        frames=args.frames, scene=_scene_options(args))
+    batch.plan(inputs, open_options=open_options)  # a missing or bad input: one error before any cluster starts
+    done: frozenset = frozenset()
+    if args.resume and Path(args.out).exists():
+        # keep the complete lines of the interrupted run; go on after them
+        lines = Path(args.out).read_text().splitlines(keepends=True)
+        good = []
+        for line in lines:
+            try:
+                json.loads(line)
+                good.append(line if line.endswith("\n") else line + "\n")
+            except json.JSONDecodeError:
+                break
+        Path(args.out).write_text("".join(good))
+        done = batch.keys_in(args.out)
+    out = open(args.out, "a" if args.resume else "w") if args.out else sys.stdout
+    counts: dict[str, int] = {}
+    frames = warned = 0
+    client = cluster = None
+    t0 = time.perf_counter()
+    try:
+        if args.workers or args.scheduler:
+            from dask.distributed import Client, LocalCluster
+
+            if args.scheduler:
+                client = Client(args.scheduler)
+            else:
+                cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
+                client = Client(cluster)
+
+        def on_result(res):
+            nonlocal frames, warned
+            out.write(json.dumps(res) + "\n")
+            out.flush()
+            frames += 1
+            warned += bool(res.get("warnings"))
+            for o in res["objects"]:
+                if o["accepted"]:
+                    counts[o["model"]] = counts.get(o["model"], 0) + 1
+
+        batch.recognize(inputs, client, models=names or None, goal=args.goal, tracking=not args.no_track,
+                        on_result=on_result, done=done, on_error=args.on_error, **open_options)
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+        if args.out:
+            out.close()
+    wall = time.perf_counter() - t0
+    found = ", ".join(f"{n} {k}" for n, k in sorted(counts.items())) or "nothing"
+    where = f"{args.workers} local worker(s)" if args.workers else (args.scheduler or "this process")
+    print(f"mereo recognize: {frames} frame(s) in {wall:.2f} s on {where}"
+          + (f" ({len(done)} already in {args.out})" if done else "") + f": {found}"
+          + (f"; {warned} frame(s) with a warning" if warned else "") + (f"; results in {args.out}" if args.out else ""),
+          file=sys.stderr)
+    return 0
+
+
 def cmd_recognize(args) -> int:
     import time
 
     from . import recognition
 
     names, models_file = _models_arg(args.models)
+    if args.workers or args.scheduler or args.resume:
+        if models_file:
+            raise _mereo.InputError("--models FILE is not available with --workers, --scheduler or --resume")
+        return _recognize_batch(args, names)
     if models_file and not names:
         from .knowledge import load_models
 
@@ -377,6 +455,11 @@ def build_parser() -> argparse.ArgumentParser:
                         "with warnings and the run goes on (skip, the default), or stop with an error")
     g.add_argument("--odometry", action="store_true",
                    help="a sequence: estimate the camera poses (RGB-D odometry) even where the input has them")
+    g.add_argument("--workers", type=int, default=0, metavar="N",
+                   help="run on a local Dask cluster of N worker processes (one task per sequence)")
+    g.add_argument("--scheduler", metavar="ADDRESS", help="run on an existing Dask cluster (tcp://host:8786)")
+    g.add_argument("--resume", action="store_true",
+                   help="go on from an interrupted run: skip the frames --out already holds, append the rest")
     _scene_flags(g, noise=False)
     g.set_defaults(run=cmd_recognize)
 

@@ -35,14 +35,14 @@ if [ ! -x .venv/bin/python ]; then
   echo "setup: creating .venv"
   python3 -m venv .venv
 fi
-# Build tools pinned in pyproject.toml's [dev] extra (with [test] and [dask] for the tests), installed so that builds reuse one build
+# Build tools pinned in pyproject.toml's [dev] extra (with [test], [dask] and [open3d] for the tests), installed so that builds reuse one build
 # folder (no build isolation) and stay incremental.
 .venv/bin/python - <<'PY'
 import re, subprocess, sys, tomllib
 from importlib import metadata
 spec = tomllib.load(open("pyproject.toml", "rb"))["project"]
 extras = spec["optional-dependencies"]
-wanted = extras["dev"] + extras["test"] + extras["dask"] + spec["dependencies"]
+wanted = extras["dev"] + extras["test"] + extras["dask"] + extras["open3d"] + spec["dependencies"]
 need = []
 for req in wanted:
     m = re.match(r"([A-Za-z0-9_.\-]+)\s*(==|>=)?\s*(.*)", req)

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import json
 import sys
+import uuid
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
@@ -163,8 +164,9 @@ def recognize(inputs: Sequence, client=None, *, models: Sequence[str] | str | No
         else:
             from dask.distributed import as_completed
 
+            run = uuid.uuid4().hex  # (a key per task of this call: none is taken for another call's)
             futures = [client.submit(_run_task, t, graph_options, open_options, done, on_error, pure=False,
-                                     retries=retries, key=f"mereo-task-{n}-{id(tasks)}")
+                                     retries=retries, key=f"mereo-{run}-{n}")
                        for n, t in enumerate(tasks)]
             for f in as_completed(futures):  # task by task as they finish, each in frame order
                 hand_on(f.result())

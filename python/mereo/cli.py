@@ -230,6 +230,26 @@ def _models_arg(values):
     return names, (files[0] if files else "")
 
 
+class _Tally:
+    """What a recognize run found, for its summary line: frames, accepted objects per model, frames
+    with a warning."""
+
+    def __init__(self):
+        self.frames = self.warned = 0
+        self.counts: dict[str, int] = {}
+
+    def add(self, res: dict) -> None:
+        self.frames += 1
+        self.warned += bool(res.get("warnings"))
+        for o in res["objects"]:
+            if o["accepted"]:
+                self.counts[o["model"]] = self.counts.get(o["model"], 0) + 1
+
+    def found(self) -> str:
+        text = ", ".join(f"{n} {k}" for n, k in sorted(self.counts.items())) or "nothing"
+        return text + (f"; {self.warned} frame(s) with a warning" if self.warned else "")
+
+
 def _recognize_batch(args, names) -> int:
     """--workers N, --scheduler ADDRESS, --resume: mereo.batch (one task per sequence, single frames
     in chunks) on a local Dask cluster, a remote one, or here; JSON lines written as tasks finish."""
@@ -259,8 +279,7 @@ def _recognize_batch(args, names) -> int:
         Path(args.out).write_text("".join(good))
         done = batch.keys_in(args.out)
     out = open(args.out, "a" if args.resume else "w") if args.out else sys.stdout
-    counts: dict[str, int] = {}
-    frames = warned = 0
+    tally = _Tally()
     client = cluster = None
     t0 = time.perf_counter()
     try:
@@ -275,14 +294,9 @@ def _recognize_batch(args, names) -> int:
                 client = Client(cluster)
 
         def on_result(res):
-            nonlocal frames, warned
             out.write(json.dumps(res) + "\n")
             out.flush()
-            frames += 1
-            warned += bool(res.get("warnings"))
-            for o in res["objects"]:
-                if o["accepted"]:
-                    counts[o["model"]] = counts.get(o["model"], 0) + 1
+            tally.add(res)
 
         batch.recognize(inputs, client, models=names or None, goal=args.goal, tracking=not args.no_track,
                         on_result=on_result, done=done, on_error=args.on_error, **open_options)
@@ -294,12 +308,10 @@ def _recognize_batch(args, names) -> int:
         if args.out:
             out.close()
     wall = time.perf_counter() - t0
-    found = ", ".join(f"{n} {k}" for n, k in sorted(counts.items())) or "nothing"
     where = f"{args.workers} local worker(s)" if args.workers else (args.scheduler or "this process")
-    print(f"mereo recognize: {frames} frame(s) in {wall:.2f} s on {where}"
-          + (f" ({len(done)} already in {args.out})" if done else "") + f": {found}"
-          + (f"; {warned} frame(s) with a warning" if warned else "") + (f"; results in {args.out}" if args.out else ""),
-          file=sys.stderr)
+    print(f"mereo recognize: {tally.frames} frame(s) in {wall:.2f} s on {where}"
+          + (f" ({len(done)} already in {args.out})" if done else "") + f": {tally.found()}"
+          + (f"; results in {args.out}" if args.out else ""), file=sys.stderr)
     return 0
 
 
@@ -330,14 +342,13 @@ def cmd_recognize(args) -> int:
     overlay = Path(args.overlay) if args.overlay else None
     if overlay:
         overlay.mkdir(parents=True, exist_ok=True)
-    counts: dict[str, int] = {}
-    frames = 0
-    warned = unread = 0
+    tally = _Tally()
+    unread = 0
     bar = _progress(None, len(seq), "recognize") if len(seq) > 1 else None
     t0 = time.perf_counter()
 
     def on_result(r):
-        nonlocal frames, warned, unread
+        nonlocal unread
         res = recognition._result(r, args.on_error)
         if res.get("warnings") and not res.get("source") and r["index"] < len(seq):
             res["source"] = seq.sources[r["index"]]  # (a frame that failed: where it came from)
@@ -346,17 +357,13 @@ def cmd_recognize(args) -> int:
         if r["error"] and r["error_node"] == "frame_source":
             unread += 1  # the frame could not be read: the run goes on, the exit status says so
         if res.get("warnings"):
-            warned += 1
             message = f"mereo: warning: frame {res['frame']}: " + "; ".join(res["warnings"])
             (bar.write(message, file=sys.stderr) if bar is not None else print(message, file=sys.stderr))
-        for o in res["objects"]:
-            if o["accepted"]:
-                counts[o["model"]] = counts.get(o["model"], 0) + 1
         frame = r["outputs"].get("source.frame") if overlay is not None else None
         if frame is not None:  # (a frame that failed has no overlay)
-            name = f"{frames:04d}_{frame.id}" if len(seq) > 1 else frame.id or "frame"
+            name = f"{tally.frames:04d}_{frame.id}" if len(seq) > 1 else frame.id or "frame"
             io.write_image(overlay / f"{name}_overlay.png", recognition.draw_result(frame, res))
-        frames += 1
+        tally.add(res)
         if bar is not None:
             bar.update(1)
 
@@ -367,12 +374,8 @@ def cmd_recognize(args) -> int:
     if args.out:
         out.close()
     wall = time.perf_counter() - t0
-    found = ", ".join(f"{n} {k}" for n, k in sorted(counts.items())) or "nothing"
-    if warned:
-        found += f"; {warned} frame(s) with a warning"
-    if unread:
-        found += f", {unread} of them could not be read"
-    print(f"mereo recognize: {frames} frame(s) in {wall:.2f} s ({frames / wall:.1f} frames/s): {found}"
+    found = tally.found() + (f", {unread} of them could not be read" if unread else "")
+    print(f"mereo recognize: {tally.frames} frame(s) in {wall:.2f} s ({tally.frames / wall:.1f} frames/s): {found}"
           + (f"; results in {args.out}" if args.out else "") + (f"; overlays in {overlay}" if overlay else ""),
           file=sys.stderr)
     return 1 if unread else 0

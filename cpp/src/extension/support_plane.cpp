@@ -27,11 +27,10 @@ struct Sample {
   bool central;
 };
 
-/// Inliers of the plane (n, d): its 4-connected regions of at least 1/8 of the largest one's
-/// size, on every `stride`-th pixel of every `stride`-th row (region pixel (v, u) is the cloud's
-/// (stride v, stride u)).
-cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen::Vector3d& n,
-                      double d, double eps, double cos_dev, int stride = 1) {
+/// The pixels (1) within the inlier distance of the plane (n, d) and, given normals, whose normal
+/// is within acos(cos_dev) of n, on every `stride`-th pixel of every `stride`-th row.
+cv::Mat near_plane(const Cloud& cloud, const NormalMap* normals, const Eigen::Vector3d& n, double d, double eps,
+                   double cos_dev, int stride) {
   const int H = (cloud.rows() + stride - 1) / stride, W = (cloud.cols() + stride - 1) / stride;
   cv::Mat mask(H, W, CV_8U, cv::Scalar(0));
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
@@ -39,63 +38,62 @@ cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen:
       std::uint8_t* m = mask.ptr<std::uint8_t>(v);
       for (int u = 0; u < W; ++u) {
         const float* p = cloud.ptr(stride * v, stride * u);
-        const float* q = normals.ptr(stride * v, stride * u);
-        if (!valid_point(p) || !std::isfinite(q[0])) continue;
+        if (!valid_point(p)) continue;
         const double dist = std::abs(n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d);
         if (dist > tolerance(eps, p[2])) continue;
-        if (std::abs(n.x() * q[0] + n.y() * q[1] + n.z() * q[2]) < cos_dev) continue;
+        if (normals) {
+          const float* q = normals->ptr(stride * v, stride * u);
+          if (!std::isfinite(q[0]) || std::abs(n.x() * q[0] + n.y() * q[1] + n.z() * q[2]) < cos_dev) continue;
+        }
         m[u] = 1;
       }
     }
   });
+  return mask;
+}
+
+/// 255 where `labels` holds a label that `keep` marks, 0 elsewhere.
+cv::Mat kept_labels(const cv::Mat& labels, const std::vector<std::uint8_t>& keep) {
+  cv::Mat out(labels.rows, labels.cols, CV_8U, cv::Scalar(0));
+  for (int v = 0; v < labels.rows; ++v) {
+    const int* l = labels.ptr<int>(v);
+    std::uint8_t* o = out.ptr<std::uint8_t>(v);
+    for (int u = 0; u < labels.cols; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
+  }
+  return out;
+}
+
+/// Inliers of the plane (n, d): its 4-connected regions of at least 1/8 of the largest one's
+/// size, on every `stride`-th pixel of every `stride`-th row (region pixel (v, u) is the cloud's
+/// (stride v, stride u)).
+cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen::Vector3d& n,
+                      double d, double eps, double cos_dev, int stride = 1) {
   cv::Mat labels, stats, centroids;
-  const int count = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
+  const int count = cv::connectedComponentsWithStats(near_plane(cloud, &normals, n, d, eps, cos_dev, stride), labels,
+                                                     stats, centroids, 4, CV_32S);
   int best_area = 0;
   for (int k = 1; k < count; ++k) best_area = std::max(best_area, stats.at<int>(k, cv::CC_STAT_AREA));
   // the largest region and the pieces of the same plane that objects standing on it cut off
   std::vector<std::uint8_t> keep(std::size_t(count), 0);
   for (int k = 1; k < count; ++k) keep[std::size_t(k)] = 8 * stats.at<int>(k, cv::CC_STAT_AREA) >= best_area;
-  cv::Mat region(H, W, CV_8U, cv::Scalar(0));
-  for (int v = 0; v < H; ++v) {
-    const int* l = labels.ptr<int>(v);
-    std::uint8_t* r = region.ptr<std::uint8_t>(v);
-    for (int u = 0; u < W; ++u) r[u] = keep[std::size_t(l[u])] ? 255 : 0;
-  }
-  return region;  // 255 where selected
+  return kept_labels(labels, keep);  // 255 where selected
 }
 
 /// The plane's extent: the pixels within the inlier distance of (n, d), whatever their normals,
 /// 4-connected to its inlier region (255 where selected). Active-stereo normals are wavy: the
 /// inliers with agreeing normals leave a filigree that covers a part of the table only.
 cv::Mat extent_region(const Cloud& cloud, const cv::Mat& region, const Eigen::Vector3d& n, double d, double eps) {
-  const int H = cloud.rows(), W = cloud.cols();
-  cv::Mat near(H, W, CV_8U, cv::Scalar(0));
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
-    for (int v = rows.begin(); v < rows.end(); ++v) {
-      std::uint8_t* m = near.ptr<std::uint8_t>(v);
-      for (int u = 0; u < W; ++u) {
-        const float* p = cloud.ptr(v, u);
-        if (valid_point(p) && std::abs(n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d) <= tolerance(eps, p[2])) m[u] = 1;
-      }
-    }
-  });
   cv::Mat labels;
-  const int count = cv::connectedComponents(near, labels, 4, CV_32S);
+  const int count = cv::connectedComponents(near_plane(cloud, nullptr, n, d, eps, 0, 1), labels, 4, CV_32S);
   std::vector<std::uint8_t> keep(std::size_t(count), 0);
-  for (int v = 0; v < H; ++v) {
+  for (int v = 0; v < labels.rows; ++v) {
     const int* l = labels.ptr<int>(v);
     const std::uint8_t* r = region.ptr<std::uint8_t>(v);
-    for (int u = 0; u < W; ++u)
+    for (int u = 0; u < labels.cols; ++u)
       if (r[u]) keep[std::size_t(l[u])] = 1;
   }
   keep[0] = 0;
-  cv::Mat out(H, W, CV_8U, cv::Scalar(0));
-  for (int v = 0; v < H; ++v) {
-    const int* l = labels.ptr<int>(v);
-    std::uint8_t* o = out.ptr<std::uint8_t>(v);
-    for (int u = 0; u < W; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
-  }
-  return out;
+  return kept_labels(labels, keep);
 }
 
 /// PCA plane of the masked points (of a region on every `stride`-th pixel): returns the RMS

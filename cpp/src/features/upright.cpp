@@ -121,6 +121,12 @@ void refit_circle(const std::vector<Eigen::Vector2d>& q, double huber, Eigen::Ve
   }
 }
 
+/// The Huber loss of a residual, quadratic within `width`, linear beyond.
+double huber_loss(double res, double width) {
+  const double a = std::abs(res);
+  return a <= width ? a * a : width * (2 * a - width);
+}
+
 /// The upright cone that fits the points better than the cylinder (c, r) does, if one does: the
 /// distance from the axis grows linearly with height, r + k t (t from the points' mean height
 /// `t0`), fitted by Gauss-Newton with Huber weights; it is kept when its taper is at least
@@ -133,10 +139,7 @@ std::optional<shapes::Cone> upright_cone(const Plane2& pl, const std::vector<Eig
   t0 /= double(pts.size());
   const auto cost = [&](const Eigen::Vector4d& p) {  // cx, cy, r, k
     double sum = 0;
-    for (const auto& x : pts) {
-      const double res = (pl.of(x) - p.head<2>()).norm() - p(2) - p(3) * (pl.up.dot(x) - t0);
-      sum += std::abs(res) <= huber ? res * res : huber * (2 * std::abs(res) - huber);
-    }
+    for (const auto& x : pts) sum += huber_loss((pl.of(x) - p.head<2>()).norm() - p(2) - p(3) * (pl.up.dot(x) - t0), huber);
     return sum;
   };
   Eigen::Vector4d p(c0.x(), c0.y(), r0, 0.0);
@@ -194,10 +197,7 @@ shapes::Cylinder upright_cylinder(const Plane2& pl, const Eigen::Vector2d& c, do
 /// The robust (Huber, width `huber`) cost of the points against the surface of s.
 double huber_cost(const Segment& s, const std::vector<Eigen::Vector3d>& pts, double huber) {
   double sum = 0;
-  for (const auto& x : pts) {
-    const double res = std::abs(s.signed_distance(x));
-    sum += res <= huber ? res * res : huber * (2 * res - huber);
-  }
+  for (const auto& x : pts) sum += huber_loss(s.signed_distance(x), huber);
   return sum;
 }
 

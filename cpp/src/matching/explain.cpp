@@ -27,12 +27,13 @@ struct Grid {
 bool near_part(const Segment& s, const Eigen::Vector3d& x, double tol, const float* normal, double min_cos) {
   Eigen::Vector3d n;
   double dist = 0;
+  const auto wall = [&](const auto& c) {  // an axial part's wall, within its extent
+    return std::abs(c.axis.dot(x - c.point)) > c.height / 2 + tol ? INFINITY : c.signed_distance(x, &n);
+  };
   if (const auto* c = s.get_if<shapes::Cylinder>()) {
-    if (std::abs(c->axis.dot(x - c->point)) > c->height / 2 + tol) return false;
-    dist = c->signed_distance(x, &n);
+    dist = wall(*c);
   } else if (const auto* k = s.get_if<shapes::Cone>()) {
-    if (std::abs(k->axis.dot(x - k->point)) > k->height / 2 + tol) return false;
-    dist = k->signed_distance(x, &n);
+    dist = wall(*k);
   } else if (s.is<shapes::Sphere>() || s.is<shapes::Torus>()) {
     dist = s.signed_distance(x, &n);
   } else {
@@ -133,7 +134,7 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
     // the region's pixels near the object's parts count with its own (noisy depth)
     std::size_t explained = pixels[a].size();
     const double min_cos = std::cos(o.surface_normal_deg * M_PI / 180);
-    if (o.surface_tolerance > 0)
+    if (o.surface_tolerance > 0 && !free_form[a])  // (free-form regions explain only their own pixels)
       for (int j : region) {
         if (owner[std::size_t(j)] == int(a)) continue;
         const Eigen::Vector3d x = g.p(j);

@@ -15,7 +15,7 @@ order within each sequence; every result carries its "input" (the index of its i
 "index" (its place in that input), the key that makes a rerun append nothing twice. A worker that
 dies mid-task is replaced by the cluster and its task rerun (Dask retries it): what was handed on
 before stays, nothing is handed on twice. `done` (keys already written, e.g. by an interrupted run:
-`keys_in(path)`) skips those frames.
+`keys_in(path, repair=True)`) skips those frames.
 
 Without a client everything runs in this process (the same tasks, in order): the results are the
 same as on a cluster, timings aside.
@@ -111,20 +111,25 @@ def _run_task(task: Task, graph_options: dict, open_options: dict, done: frozens
     return out
 
 
-def keys_in(path: str | Path) -> frozenset:
-    """The (input, index) keys of the results a JSON Lines file already holds (for resuming); a
-    last line cut short by an interrupted run is ignored."""
-    keys = set()
+def keys_in(path: str | Path, repair: bool = False) -> frozenset:
+    """The (input, index) keys of the results a JSON Lines file already holds (for resuming): its
+    whole lines up to the first that is not JSON (the last, cut short by an interrupted run). With
+    `repair`, the file is cut to those lines, each ending in a newline, so that a run appending to
+    it goes on after a whole line."""
     p = Path(path)
     if not p.exists():
         return frozenset()
-    for line in p.read_text().splitlines():
+    keys, good = set(), []
+    for line in p.read_text().splitlines(keepends=True):
         try:
             r = json.loads(line)
         except json.JSONDecodeError:
-            continue
+            break
+        good.append(line if line.endswith("\n") else line + "\n")
         if "input" in r and "index" in r:
             keys.add((int(r["input"]), int(r["index"])))
+    if repair:
+        p.write_text("".join(good))
     return frozenset(keys)
 
 

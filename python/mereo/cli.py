@@ -265,19 +265,8 @@ def _recognize_batch(args, names) -> int:
     open_options = dict(intrinsics=args.intrinsics, depth_scale=args.depth_scale, depth_format=args.depth_format,
                         frames=args.frames, scene=_scene_options(args))
     batch.plan(inputs, open_options=open_options)  # a missing or bad input: one error before any cluster starts
-    done: frozenset = frozenset()
-    if args.resume and Path(args.out).exists():
-        # keep the complete lines of the interrupted run; go on after them
-        lines = Path(args.out).read_text().splitlines(keepends=True)
-        good = []
-        for line in lines:
-            try:
-                json.loads(line)
-                good.append(line if line.endswith("\n") else line + "\n")
-            except json.JSONDecodeError:
-                break
-        Path(args.out).write_text("".join(good))
-        done = batch.keys_in(args.out)
+    # keep the whole lines of the interrupted run; go on after them
+    done = batch.keys_in(args.out, repair=True) if args.resume else frozenset()
     out = open(args.out, "a" if args.resume else "w") if args.out else sys.stdout
     tally = _Tally()
     client = cluster = None

@@ -10,7 +10,6 @@ as "region.NAME". A frame without objects gives no row. Needs pandas (pip instal
 """
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -31,12 +30,10 @@ def _flatten(prefix: str, d: dict, row: dict) -> None:
 
 def _results(source) -> Iterable[dict]:
     if isinstance(source, (str, Path)):
-        with open(source) as f:
-            for line in f:
-                if line.strip():
-                    yield json.loads(line)
-    else:
-        yield from source
+        from .evaluate import load_results
+
+        return load_results(source)
+    return source
 
 
 def rows(results) -> list[dict]:

@@ -234,13 +234,10 @@ void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<S
     // it may fit a little worse: the noise leaned the free fit (a tapered cup found bottom-up as
     // a leaning cylinder is a cone once held; so are a few jars, whose lid tells them apart)
     if (!(huber_cost(held, pts, huber) <= kHoldWorse * huber_cost(s, pts, huber))) continue;
-    // the same pixels, the held shape (its ends and bend are measured after, as every segment's)
+    // the same pixels, the held shape (its ends and bend are measured after, as every segment's;
+    // its colour stays)
     s.shape = held.shape;
-    std::vector<Eigen::Vector3d> seen;  // its extent as describe() takes it: on the cloud's points
-    seen.reserve(s.pixels.size());
-    for (int i : s.pixels) seen.push_back(f.p(i));
-    set_extent(s, seen);
-    s.visit([](auto& g) { g.canonical(); });
+    describe(f, s, std::move(s.pixels), nullptr);
     set_residual(s, pts);
   }
 }

@@ -40,7 +40,8 @@ bool near_part(const Segment& s, const Eigen::Vector3d& x, double tol, const flo
     return false;
   }
   if (std::abs(dist) > tol) return false;
-  return !normal || !std::isfinite(normal[0]) || std::abs(n.x() * normal[0] + n.y() * normal[1] + n.z() * normal[2]) >= min_cos;
+  return !normal || !std::isfinite(normal[0]) ||
+         std::abs(n.dot(Eigen::Map<const Eigen::Vector3f>(normal).cast<double>())) >= min_cos;
 }
 
 }  // namespace

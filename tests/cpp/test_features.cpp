@@ -509,42 +509,54 @@ TEST(Regions, ARegionGoesThroughJsonFieldsAndBack) {
 
 TEST(Features, ABodyThatBendsAlongItsAxisShowsItInItsNormalsAndACylinderDoesNot) {
   // 1 m in front of the camera: a tube of radius 2 cm bent on a ring of radius 20 cm (a banana),
-  // seen over 30 degrees of the ring and 120 degrees of the tube, with exact normals; and a
-  // straight cylinder of the same radius. Both are taken as the same cylinder segment.
+  // seen over 30 degrees of the ring (image rows) and 120 degrees of the tube (columns); and a
+  // straight cylinder of the same radius. Both are taken as the same cylinder segment. Their
+  // normals exact, then with the noise of a stereo camera: tilted along the axis by a random
+  // angle (0.15 rad) shared by each 5 x 5 pixel patch.
   const double R = 0.2, r = 0.02;
   const Eigen::Vector3d centre(0, 0, 1), ring_normal = Eigen::Vector3d::UnitY();
-  const auto sample = [&](bool bent, Cloud& cloud, NormalMap& normals) {
-    std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> pn;
-    for (double phi = -15; phi <= 15; phi += 0.5)
-      for (double th = -60; th <= 60; th += 2) {
-        const double f = phi * M_PI / 180, t = th * M_PI / 180;
+  const auto sample = [&](bool bent, bool noisy, Cloud& cloud, NormalMap& normals) {
+    const int rows = 61, cols = 61;
+    cloud = Cloud(rows, cols);
+    normals = NormalMap(rows, cols);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> tilt(0.0, 0.15);
+    std::vector<double> patch(13 * 13);
+    for (double& x : patch) x = noisy ? tilt(rng) : 0.0;
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) {
+        const double f = (-15 + 0.5 * i) * M_PI / 180, t = (-60 + 2 * j) * M_PI / 180;
         // the tube's centre line runs along x; its cross-section faces the camera (-z)
         const Eigen::Vector3d radial = bent ? Eigen::Vector3d(std::sin(f), 0, -std::cos(f)) : Eigen::Vector3d(0, 0, -1);
         const Eigen::Vector3d along = bent ? Eigen::Vector3d(std::sin(f) * (R + r), 0, 0) : Eigen::Vector3d(f * (R + r), 0, 0);
         const Eigen::Vector3d n = std::cos(t) * radial + std::sin(t) * ring_normal;
         const Eigen::Vector3d base = bent ? Eigen::Vector3d(centre + Eigen::Vector3d(0, 0, R) + R * radial)
                                           : Eigen::Vector3d(centre + along);
-        pn.emplace_back(base + r * n, n);
+        const Eigen::Vector3d p = base + r * n;
+        const Eigen::Vector3d seen = (n + patch[(i / 5) * 13 + j / 5] * Eigen::Vector3d::UnitX()).normalized();
+        for (int k = 0; k < 3; ++k) cloud.ptr(i, j)[k] = float(p(k)), normals.ptr(i, j)[k] = float(seen(k));
       }
-    cloud = Cloud(1, int(pn.size()));
-    normals = NormalMap(1, int(pn.size()));
-    for (std::size_t i = 0; i < pn.size(); ++i)
-      for (int k = 0; k < 3; ++k) cloud.ptr(0, int(i))[k] = float(pn[i].first(k)), normals.ptr(0, int(i))[k] = float(pn[i].second(k));
   };
+  // the bend reported: the RMS over the pixels of the slope along the axis of the normals'
+  // component along it, cos(azimuth) / (R + r) on the bent tube
+  double cos2 = 0;
+  for (int j = 0; j < 61; ++j) cos2 += std::pow(std::cos((-60 + 2 * j) * M_PI / 180), 2) / 61;
+  const double expected = std::sqrt(cos2) / (R + r);
   const features::DetectOptions o;
-  for (bool bent : {false, true}) {
-    Cloud cloud;
-    NormalMap normals;
-    sample(bent, cloud, normals);
-    const fd::Pixels f(cloud, normals, o);
-    Segment s = cylinder(centre, Eigen::Vector3d::UnitX(), r, 0.1);
-    for (int i = 0; i < int(cloud.pixels()); ++i) s.pixels.push_back(i);
-    fd::measure_bend(f, s);
-    if (bent)
-      EXPECT_NEAR(s.bend, 1 / (R + r), 0.8) << "1 / m";
-    else
-      EXPECT_NEAR(s.bend, 0.0, 1e-6);
-  }
+  for (bool noisy : {false, true})
+    for (bool bent : {false, true}) {
+      Cloud cloud;
+      NormalMap normals;
+      sample(bent, noisy, cloud, normals);
+      const fd::Pixels f(cloud, normals, o);
+      Segment s = cylinder(centre, Eigen::Vector3d::UnitX(), r, 0.1);
+      for (int i = 0; i < int(cloud.pixels()); ++i) s.pixels.push_back(i);
+      fd::measure_bend(f, s);
+      if (bent)
+        EXPECT_NEAR(s.bend, expected, noisy ? 0.8 : 0.2) << "1 / m, noisy " << noisy;
+      else
+        EXPECT_NEAR(s.bend, 0.0, 1e-6) << "noisy " << noisy;
+    }
 }
 
 TEST(Features, ASphereKnowsWhereOnItItWasSeen) {

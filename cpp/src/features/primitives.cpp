@@ -522,17 +522,20 @@ void measure_bend(const Pixels& f, Segment& s) {
     double t, n, cos, sin;  // position on the axis, the normal's component along it, azimuth
     int block;
   };
-  std::vector<Sample> all;
-  all.reserve(s.pixels.size());
+  std::vector<Sample> xs;
+  xs.reserve(s.pixels.size());
   const int bw = (f.W + kBlock - 1) / kBlock;
   for (int i : s.pixels) {
     const Eigen::Vector3d n = f.n(i), q = f.p(i) - c;
     const double x = e1.dot(q), y = e2.dot(q), r = std::hypot(x, y);
-    if (n.allFinite() && r > 0) all.push_back({a.dot(q), a.dot(n), x / r, y / r, (i / f.W) / kBlock * bw + (i % f.W) / kBlock});
+    if (n.allFinite() && r > 0) xs.push_back({a.dot(q), a.dot(n), x / r, y / r, (i / f.W) / kBlock * bw + (i % f.W) / kBlock});
   }
-  if (all.size() < 20) return;
-  std::sort(all.begin(), all.end(), [](const Sample& u, const Sample& v) { return u.t < v.t; });
-  const std::vector<Sample> xs(all.begin() + all.size() / 10, all.end() - all.size() / 10);
+  if (xs.size() < 20) return;
+  // the 10th to 90th percentile of the positions on the axis
+  std::sort(xs.begin(), xs.end(), [](const Sample& u, const Sample& v) { return u.t < v.t; });
+  const std::size_t cut = xs.size() / 10;
+  xs.erase(xs.end() - std::ptrdiff_t(cut), xs.end());
+  xs.erase(xs.begin(), xs.begin() + std::ptrdiff_t(cut));
   auto row = [](const Sample& x) { return Eigen::Vector4d(1, x.t, x.t * x.cos, x.t * x.sin); };
   Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
   Eigen::Vector4d atb = Eigen::Vector4d::Zero();
@@ -555,7 +558,7 @@ void measure_bend(const Pixels& f, Segment& s) {
     b.first += r, b.second += 1;
   }
   const double rss0 = snn - sn * sn / m;  // about the mean: no slope at all
-  if (!(rss > 0) || m <= 8) return;
+  if (!(rss > 0)) return;
   double block_ss = 0;  // sum over blocks of count * mean^2: one residual variance per block when independent
   for (const auto& [key, b] : blocks) block_ss += b.first * b.first / b.second;
   const double together = std::max(1.0, block_ss / (double(blocks.size()) * rss / m));

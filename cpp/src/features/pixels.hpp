@@ -112,8 +112,9 @@ struct Candidate {
 /// Sets a segment's pixels, inlier count, visible extent, canonical sign, inward flag and mean
 /// colour and hue (when `color` is given).
 void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color);
-/// How much an axial segment bends along its axis, as its pixels' normals show: Segment::bend.
-void measure_bend(const Pixels& f, Segment& s);
+/// How much an axial segment bends along its axis, as its pixels' normals show: Segment::bend
+/// (the pixels next to a torus among `others`, a handle's roots, left out).
+void measure_bend(const Pixels& f, Segment& s, const std::vector<Segment>& others = {});
 /// A segment's mean colour and hue over its pixels (nothing without a colour image).
 void set_color(Segment& s, const ColorImage* color);
 
@@ -131,6 +132,13 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
 /// and one side of a cylinder in wavy stereo depth fits a cone with a leaning axis. A held cylinder
 /// or cone (radius in [min_r, max_r]) replaces a segment when it fits its points about as well.
 void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r);
+
+/// The upright bodies of `out` (outer walls) grown into the free pixels connected to them that fit
+/// them with the normals held loosely, as search_upright's are (wavy stereo depth leaves a
+/// bottom-up body a patch of its wall); a cylinder's circle is refitted to them, the axis held.
+/// Their pixels are taken; returns the pixels each segment of `out` grew by.
+std::vector<std::vector<int>> grow_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r,
+                  const ColorImage* color);
 
 /// A handle seen in the colour image beside `body`'s silhouette, where the depth has little of it
 /// (a thin tube beyond a metre: stereo depth loses or fattens it): the pixels of the half-planes

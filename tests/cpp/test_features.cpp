@@ -354,6 +354,38 @@ TEST(Features, HandleTurnTellsAHandleFromARingTurnedAwayFromTheAxis) {
   }
 }
 
+TEST(Features, APatchOfTheBodysOwnWallIsNoHandle) {
+  // a body along -y at 0.8 m; points with 2 mm noise on the side of its wall facing the camera, and
+  // on the outer arc of a handle's tube (ring radius 2.5 cm, tube 6 mm, attached to the wall)
+  const Segment body = cylinder({0.0, 0.0, 0.8}, {0, -1, 0}, 0.04, 0.1);
+  const auto& B = body.as<shapes::Cylinder>();
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  auto jitter = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng))); };
+  std::vector<Eigen::Vector3d> wall, handle;
+  for (double a = -0.6; a <= 0.6; a += 0.05)  // azimuths about the axis facing the camera (-z)
+    for (double y = -0.04; y <= 0.04; y += 0.005)
+      wall.push_back(jitter({B.radius * std::sin(a), y, 0.8 - B.radius * std::cos(a)}));
+  const Segment handle_torus = torus({0.061, 0.0, 0.8}, {0, 0, 1}, 0.025, 0.006);
+  for (double a = -M_PI; a < M_PI; a += 0.05)  // the tube's side facing the camera, beyond the wall
+    for (double b = -M_PI; b < M_PI; b += 0.4) {
+      auto [p, pn] = torus_point(handle_torus, a, b);
+      const double from_axis = Eigen::Vector2d(p.x() - B.point.x(), p.z() - B.point.z()).norm();
+      if (pn.dot(-p.normalized()) > 0.1 && from_axis > B.radius + 0.002) handle.push_back(jitter(p));
+    }
+  const auto tolerance = [](double) { return 0.005; };
+  // a torus fitted to the wall: centred inside the body (1 cm off the axis, as on the stereo
+  // tapered cup of seed 5022), its points on the wall
+  const Segment on_wall = torus({0.01, 0.0, 0.79}, {1, 0, 0}, 0.027, 0.008);
+  EXPECT_TRUE(features::wall_patch(B, on_wall, wall, tolerance));
+  // the handle: centred beyond the wall, its points off it
+  EXPECT_FALSE(features::wall_patch(B, handle_torus, handle, tolerance));
+  // a torus centred inside the body whose points stand off the wall (a pitcher's wide handle
+  // fitted from its root) is kept; and one centred outside whatever its points
+  EXPECT_FALSE(features::wall_patch(B, on_wall, handle, tolerance));
+  EXPECT_FALSE(features::wall_patch(B, handle_torus, wall, tolerance));
+}
+
 // Tapered cups (cone bodies, 4-10 degrees) in the renderer with its Kinect-like noise, found as
 // cones by the detector (classes plane, cylinder, cone; points above the table): the cone's radii
 // at the true ends of the body within 2 mm and its axis within 2 degrees; upright cylinders

@@ -627,20 +627,13 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
       }
       for (int i : grown[k]) f.free[i] = 1;
       auto found = find_in(f, torus, region, o, color, 1);
-      // a torus centred inside the body with most of its pixels on the body's wall is a patch of
-      // that wall (wavy stereo depth bends one into a tube), not a handle: a handle's ring is
-      // centred about the wall or beyond (rendered mugs 0.96-1.6 radii off the axis, real ones
-      // 0.8-1.3, a real pitcher's 0.4), and it stands off the wall but at its roots
+      // a patch of the body's own wall is no handle (handle.hpp: wall_patch)
       found.erase(std::remove_if(found.begin(), found.end(),
                                  [&](const Segment& t) {
-                                   const auto* ring = t.get_if<shapes::Torus>();
-                                   if (!ring || body->signed_distance(ring->center) >= 0) return false;
-                                   std::size_t on_wall = 0;
-                                   for (int i : t.pixels) {
-                                     const Eigen::Vector3d x = f.p(i);
-                                     on_wall += std::abs(out[k].signed_distance(x)) <= f.eps(x.z());
-                                   }
-                                   return 2 * on_wall > t.pixels.size();
+                                   std::vector<Eigen::Vector3d> pts;
+                                   pts.reserve(t.pixels.size());
+                                   for (int i : t.pixels) pts.push_back(f.p(i));
+                                   return wall_patch(*body, t, pts, [&](double z) { return f.eps(z); });
                                  }),
                   found.end());
       if (found.empty() && h.from_colour)

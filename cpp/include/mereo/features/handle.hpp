@@ -21,12 +21,16 @@
 //  5. it is no handle when its ring would rather turn its plane away from the body's axis (more
 //     than `max_turn_deg`, with a residual under `turn_residual_ratio` of the held one: a ring
 //     leaning on a jar).
+//  6. it is no handle when its ring is centred inside the body and most of its pixels lie on the
+//     body's wall (wall_patch: a grown stereo wall bent into a tube).
 // Where the depth shows no handle, its silhouette is looked for in the colour image (`from_colour`,
 // detail::colour_handle in features/pixels.hpp): beside the body's limbs, in the body's colour and
 // not the background's, shaped as a handle (reach, height span, a loop that does not fill its box);
 // a torus in that plane, attached to the wall, stands for it.
 #pragma once
 
+#include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,6 +38,7 @@
 #include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 #include "mereo/shapes/cylinder.hpp"
+#include "mereo/shapes/torus.hpp"
 
 namespace mereo::features {
 
@@ -141,5 +146,20 @@ struct HandleTurn {
   }
 };
 HandleTurn handle_turn(const Segment& body, const Segment& t, const std::vector<Eigen::Vector3d>& points);
+
+/// A torus found next to `body` that is a patch of the body's own wall, not its handle: its ring
+/// centred inside the body and most of its points (its pixels') on the wall, within `tolerance(z)`
+/// (wavy stereo depth bends a wall into a tube). A handle's ring is centred about the wall or
+/// beyond (rendered mugs 0.96-1.6 radii off the axis, real ones 0.8-1.3; a real pitcher's torus
+/// 0.4, but off the wall) and stands off the wall but at its roots.
+template <class Tolerance>
+bool wall_patch(const shapes::Cylinder& body, const Segment& t, const std::vector<Eigen::Vector3d>& points,
+                Tolerance tolerance) {
+  const auto* ring = t.get_if<shapes::Torus>();
+  if (!ring || body.signed_distance(ring->center) >= 0) return false;
+  std::size_t on_wall = 0;
+  for (const auto& x : points) on_wall += std::abs(body.signed_distance(x)) <= tolerance(x.z());
+  return 2 * on_wall > points.size();
+}
 
 }  // namespace mereo::features

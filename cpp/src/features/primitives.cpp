@@ -646,10 +646,10 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
         for (int i : out[j].pixels) f.free[i] = 0;
       }
       for (int i : grown[k]) f.free[i] = 0;
-      std::vector<int> handle_pixels;
-      for (const auto& t : found) handle_pixels.insert(handle_pixels.end(), t.pixels.begin(), t.pixels.end());
-      std::sort(handle_pixels.begin(), handle_pixels.end());
-      if (!grown[k].empty() && !handle_pixels.empty()) {  // the handle keeps what the body grew into
+      if (!grown[k].empty() && !found.empty()) {  // the handle keeps what the body grew into
+        std::vector<int> handle_pixels;
+        for (const auto& t : found) handle_pixels.insert(handle_pixels.end(), t.pixels.begin(), t.pixels.end());
+        std::sort(handle_pixels.begin(), handle_pixels.end());
         std::vector<int> pix;
         std::set_difference(out[k].pixels.begin(), out[k].pixels.end(), handle_pixels.begin(), handle_pixels.end(),
                             std::back_inserter(pix));

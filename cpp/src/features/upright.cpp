@@ -268,25 +268,21 @@ std::vector<std::vector<int>> grow_upright(Pixels& f, const Eigen::Vector4d& sup
     double lo = 1e300, hi = -1e300;
     for (int i : s.pixels) lo = std::min(lo, pl.up.dot(g.p(i))), hi = std::max(hi, pl.up.dot(g.p(i)));
     lo -= kGrowReach;
+    // the segment's pixels and the free ones connected to them that fit it, normals loosely
+    std::vector<std::uint8_t> in(g.free.size(), 0);
     std::vector<int> pix;
-    auto grow = [&]() {
-      // the segment's pixels and the free ones connected to them that fit it, normals loosely
-      std::vector<std::uint8_t> in(g.free.size(), 0);
-      pix.clear();
-      for (int i : s.pixels) in[std::size_t(i)] = 1, pix.push_back(i);
-      for (std::size_t head = 0; head < pix.size(); ++head) {
-        const int i = pix[head], v = i / g.W, u = i % g.W;
-        const int nb[4][2] = {{v - 1, u}, {v + 1, u}, {v, u - 1}, {v, u + 1}};
-        for (const auto& q : nb) {
-          if (q[0] < 0 || q[0] >= g.H || q[1] < 0 || q[1] >= g.W) continue;
-          const int j = q[0] * g.W + q[1];
-          if (in[std::size_t(j)] || !g.free[std::size_t(j)] || !g.fits(s, j, +1)) continue;
-          if (const double h = pl.up.dot(g.p(j)); h < lo || h > hi) continue;
-          in[std::size_t(j)] = 1, pix.push_back(j);
-        }
+    for (int i : s.pixels) in[std::size_t(i)] = 1, pix.push_back(i);
+    for (std::size_t head = 0; head < pix.size(); ++head) {
+      const int i = pix[head], v = i / g.W, u = i % g.W;
+      const int nb[4][2] = {{v - 1, u}, {v + 1, u}, {v, u - 1}, {v, u + 1}};
+      for (const auto& q : nb) {
+        if (q[0] < 0 || q[0] >= g.H || q[1] < 0 || q[1] >= g.W) continue;
+        const int j = q[0] * g.W + q[1];
+        if (in[std::size_t(j)] || !g.free[std::size_t(j)] || !g.fits(s, j, +1)) continue;
+        if (const double h = pl.up.dot(g.p(j)); h < lo || h > hi) continue;
+        in[std::size_t(j)] = 1, pix.push_back(j);
       }
-    };
-    grow();
+    }
     if (double(pix.size()) < kGrowth * double(s.pixels.size())) continue;
     std::vector<Eigen::Vector3d> pts;
     pts.reserve(pix.size());

@@ -13,8 +13,15 @@
 //            pcl-mosd, the PCL mug); skipped with a message when that folder is absent
 // The last line is one JSON object.
 //
+// --growth: how the cost grows instead, on rendered Kinect-like scenes (seeds 600-609): against
+// the number of objects on the table (1 to 20, VGA) and against the image size (QVGA, VGA,
+// 1280x720 with the focal length scaled, 3-6 objects); scripts/growth_plot.py draws its JSON.
+// Memory: resident memory after every frame of the first set, from frame 50 on (a run of 1000
+// frames: --frames 1000 --set kinect) must stay flat.
+//
 //   bench_pipeline            every set, 60 frames each, K = 4
 //   bench_pipeline --quick    4 frames of each set (ctest)
+//   bench_pipeline --growth   the growth tables (20 frames per point)
 //   options: --frames N, --in-flight K, --graph FILE, --set kinect|stereo|real (repeatable)
 #include <cstdio>
 #include <filesystem>
@@ -68,6 +75,19 @@ std::vector<Frame> load_set(const std::string& name, std::size_t distinct) {
   // every frame, or (--quick) the first of each folder
   for (const auto& seq : seqs)
     for (std::size_t i = 0; i < seq.size() && (i == 0 || distinct > 4); ++i) pool.push_back(seq.load(i));
+  return pool;
+}
+
+/// One point of the growth tables: rendered Kinect-like scenes with `objects` objects (0: the
+/// renderer's 3-6) in a width x height image whose focal length scales with the width.
+std::vector<Frame> growth_set(int objects, int width, int height, std::size_t distinct) {
+  synthetic::SceneOptions so;
+  if (objects > 0) so.min_objects = so.max_objects = objects;
+  const double scale = double(width) / 640.0;
+  so.width = width, so.height = height;
+  so.intrinsics = Intrinsics{525.0 * scale, 525.0 * scale, 0.5 * width - 0.5, 0.5 * height - 0.5};
+  std::vector<Frame> pool;
+  for (std::size_t s = 0; s < distinct; ++s) pool.push_back(synthetic::render(600 + s, so).frame);
   return pool;
 }
 
@@ -132,17 +152,70 @@ SetFigures run_set(graph::Graph& g, const std::string& name, std::vector<Frame> 
   return fig;
 }
 
+/// A stage's median in one set's figures (NAN when the graph has no such node).
+double stage_ms(const SetFigures& f, const std::string& node) {
+  for (const auto& t : f.timings)
+    if (t.node == node) return t.median_ms;
+  return NAN;
+}
+
+/// The growth tables (--growth): one row per point, the whole frame and its main stages.
+int run_growth(graph::Graph& g, std::size_t frames, std::size_t distinct, std::size_t in_flight) {
+  const std::vector<std::string> stages = {"filter", "normals", "table", "primitives"};
+  struct Point {
+    std::string axis;
+    int objects, width, height;
+  };
+  std::vector<Point> points;
+  for (int n : {1, 2, 5, 10, 15, 20}) points.push_back({"objects", n, 640, 480});
+  for (auto [w, h] : {std::pair{320, 240}, {640, 480}, {1280, 720}}) points.push_back({"size", 0, w, h});
+  nlohmann::json j;
+  j["bench"] = "pipeline_growth", j["frames_per_point"] = frames, j["in_flight"] = in_flight;
+  bool same = true;
+  std::string axis;
+  for (const auto& p : points) {
+    if (p.axis != axis) {
+      axis = p.axis;
+      std::printf("\n%s\n%-12s %9s %9s %10s", axis == "objects" ? "objects on the table (VGA)" : "image size (3-6 objects)",
+                  axis == "objects" ? "objects" : "size", "frames/s", "ms/frame", "one at a");
+      for (const auto& st : stages) std::printf(" %10s", st.c_str());
+      std::printf(" %8s\n", "rest");
+    }
+    const SetFigures f = run_set(g, axis, growth_set(p.objects, p.width, p.height, distinct), frames, in_flight);
+    same = same && f.mismatches == 0;
+    const std::string label = axis == "objects" ? std::to_string(p.objects) : std::to_string(p.width) + "x" + std::to_string(p.height);
+    std::printf("%-12s %9.1f %9.1f %10.1f", label.c_str(), f.fps, 1000.0 / f.fps, f.median_one_at_a_time_ms);
+    double rest = f.median_one_at_a_time_ms;
+    nlohmann::json row = {{"objects", p.objects}, {"width", p.width}, {"height", p.height},
+                          {"fps", std::round(f.fps * 100) / 100}, {"median_ms", std::round(f.median_one_at_a_time_ms * 100) / 100},
+                          {"same_results", f.frames - f.mismatches}};
+    for (const auto& st : stages) {
+      const double ms = stage_ms(f, st);
+      std::printf(" %10.1f", ms);
+      rest -= std::isnan(ms) ? 0.0 : ms;
+      row["stage_median_ms"][st] = std::round(ms * 100) / 100;
+    }
+    std::printf(" %8.1f\n", rest);
+    j[axis].push_back(row);
+  }
+  std::printf("\n(ms/frame: 1000 / frames per second in parallel mode; one at a time: the median frame in "
+              "deterministic mode, whose stages are the columns after it; rest: matching, regions, result)\n%s\n",
+              j.dump().c_str());
+  return same ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   nodes::register_builtin();
-  std::size_t frames = 60, in_flight = 4;
-  bool quick = false;
+  std::size_t frames = 0, in_flight = 4;  // (frames: 60, 4 with --quick, 20 per point with --growth)
+  bool quick = false, growth = false;
   std::vector<std::string> sets;
   std::string graph_file = std::string(MEREO_SOURCE_DIR) + "/graphs/tabletop.yaml";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true, frames = 4;
+    if (a == "--quick") quick = true;
+    else if (a == "--growth") growth = true;
     else if (a == "--frames" && i + 1 < argc) frames = std::stoul(argv[++i]);
     else if (a == "--in-flight" && i + 1 < argc) in_flight = std::stoul(argv[++i]);
     else if (a == "--graph" && i + 1 < argc) graph_file = argv[++i];
@@ -152,10 +225,17 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (frames == 0) frames = quick ? 4 : growth ? 20 : 60;
   if (sets.empty()) sets = {"kinect", "stereo", "real"};
   const std::size_t distinct = quick ? 4 : 20;
   graph::Graph g = graph::Graph::load(graph_file);
   g.verify();
+  if (growth) {
+    const std::size_t scenes = quick ? 2 : 10;
+    std::printf("bench_pipeline --growth: %s, %zu frames per point (%zu scenes), K = %zu\n", graph_file.c_str(), frames,
+                scenes, in_flight);
+    return run_growth(g, frames, scenes, in_flight);
+  }
   std::printf("bench_pipeline: %s, %zu frames per set (preloaded), K = %zu, 2 modes\n\n", graph_file.c_str(), frames,
               in_flight);
 
@@ -194,17 +274,22 @@ int main(int argc, char** argv) {
     std::printf("%-8s %4zu (%2zu) %12.1f %19.1f %7.2f %17zu/%zu\n", f.name.c_str(), f.frames, f.distinct, f.fps,
                 f.fps_one_at_a_time, f.fps / f.fps_one_at_a_time, f.frames - f.mismatches, f.frames);
 
-  double early = 0, late = 0;
+  // resident memory once the first frames have settled it (frame 50, or the first fifth of a
+  // shorter run), and the highest after that: a leak grows it with the number of frames
+  double settled = 0, highest = 0;
+  std::size_t settle = 0;
   if (!figs.empty() && !figs[0].rss.empty()) {
     const auto& rss = figs[0].rss;
-    const std::size_t fifth = std::max<std::size_t>(1, rss.size() / 5);
-    for (std::size_t i = 0; i < fifth; ++i) early = std::max(early, rss[i]);
-    for (std::size_t i = rss.size() - fifth; i < rss.size(); ++i) late = std::max(late, rss[i]);
+    settle = std::max<std::size_t>(1, std::min<std::size_t>(50, rss.size() / 5));
+    settled = rss[settle - 1];
+    for (std::size_t i = settle; i < rss.size(); ++i) highest = std::max(highest, rss[i]);
+    highest = std::max(highest, settled);
   }
   const double peak = memory_mb("VmHWM:");
-  std::printf("\nmemory: peak %.0f MB (every set's preloaded frames included); set %s, parallel: resident in the first "
-              "fifth of the run %.0f MB, in the last %.0f MB (growth %.1f MB)\n",
-              peak, figs.empty() ? "-" : figs[0].name.c_str(), early, late, late - early);
+  std::printf("\nmemory: peak %.0f MB (every set's preloaded frames included); set %s, parallel: resident after frame "
+              "%zu %.0f MB, highest after it %.0f MB (growth %.1f MB over %zu frames)\n",
+              peak, figs.empty() ? "-" : figs[0].name.c_str(), settle, settled, highest, highest - settled,
+              figs.empty() ? std::size_t(0) : figs[0].rss.size() - settle);
 
   nlohmann::json j;
   j["bench"] = "pipeline", j["quick"] = quick, j["frames_per_set"] = frames, j["in_flight"] = in_flight;
@@ -216,7 +301,7 @@ int main(int argc, char** argv) {
     s["same_results"] = f.frames - f.mismatches;
     for (const auto& t : f.timings) s["stage_median_ms"][t.node] = std::round(t.median_ms * 100) / 100;
   }
-  j["peak_mb"] = std::round(peak * 10) / 10, j["rss_growth_mb"] = std::round((late - early) * 100) / 100;
+  j["peak_mb"] = std::round(peak * 10) / 10, j["rss_growth_mb"] = std::round((highest - settled) * 100) / 100;
   std::printf("%s\n", j.dump().c_str());
   // both modes must give the same results: a difference is a bug, not a figure
   for (const auto& f : figs)

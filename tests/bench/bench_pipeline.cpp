@@ -91,11 +91,12 @@ std::vector<Frame> growth_set(int objects, int width, int height, std::size_t di
   return pool;
 }
 
-/// A result without its timings (the part both modes must agree on).
-std::string comparable(const std::string& result) {
+/// A result without its timings (the part both modes must agree on), hashed: a run of 1000
+/// frames would otherwise hold 1000 results, and its memory figure would measure them.
+std::size_t comparable(const std::string& result) {
   auto j = nlohmann::json::parse(result);
   j.erase("timing_ms");
-  return j.dump();
+  return std::hash<std::string>{}(j.dump());
 }
 
 struct SetFigures {
@@ -115,13 +116,13 @@ SetFigures run_set(graph::Graph& g, const std::string& name, std::vector<Frame> 
     f.id = std::to_string(i);
     return f;
   });
-  auto run = [&](graph::Mode mode, std::vector<std::string>& results, std::vector<double>* per_frame) {
+  auto run = [&](graph::Mode mode, std::vector<std::size_t>& results, std::vector<double>* per_frame) {
     graph::RunOptions o;
     o.mode = mode;
     o.max_in_flight = in_flight;
     o.on_error = graph::ErrorPolicy::Skip;
     o.keep = {"result.result"};
-    results.assign(frames, "");
+    results.assign(frames, 0);
     double last = now_ms();
     const double t0 = last;
     g.run(source, o, [&](graph::FrameResult&& r) {
@@ -130,7 +131,7 @@ SetFigures run_set(graph::Graph& g, const std::string& name, std::vector<Frame> 
       last = t;
       if (mode == graph::Mode::Parallel) fig.rss.push_back(memory_mb("VmRSS:"));
       if (r.ok()) results[r.index] = comparable(r.outputs.at("result.result").get<std::string>());
-      else results[r.index] = std::string("error: ") + r.error->what();
+      else results[r.index] = std::hash<std::string>{}(std::string("error: ") + r.error->what());
     });
     return now_ms() - t0;
   };
@@ -140,7 +141,7 @@ SetFigures run_set(graph::Graph& g, const std::string& name, std::vector<Frame> 
     o.on_error = graph::ErrorPolicy::Skip;
     g.run(graph::FrameSource::recorded({pool[0]}), o);
   }
-  std::vector<std::string> parallel, serial;
+  std::vector<std::size_t> parallel, serial;
   std::vector<double> per_frame;
   const double parallel_ms = run(graph::Mode::Parallel, parallel, nullptr);
   const double serial_ms = run(graph::Mode::Deterministic, serial, &per_frame);
@@ -290,6 +291,22 @@ int main(int argc, char** argv) {
               "%zu %.0f MB, highest after it %.0f MB (growth %.1f MB over %zu frames)\n",
               peak, figs.empty() ? "-" : figs[0].name.c_str(), settle, settled, highest, highest - settled,
               figs.empty() ? std::size_t(0) : figs[0].rss.size() - settle);
+  // the trend: mean resident memory over the 100 frames after frame 50 and over the last 100
+  // (the highest single value swings with the frames in flight)
+  double trend = NAN;
+  if (!figs.empty() && figs[0].rss.size() >= 250) {
+    const auto& rss = figs[0].rss;
+    double a = 0, b = 0;
+    for (std::size_t i = 50; i < 150; ++i) a += rss[i] / 100;
+    for (std::size_t i = rss.size() - 100; i < rss.size(); ++i) b += rss[i] / 100;
+    trend = b - a;
+    std::printf("mean resident over frames 51-150 %.0f MB, over the last 100 %.0f MB (trend %+.1f MB)\n", a, b, trend);
+  }
+  if (!figs.empty() && figs[0].rss.size() >= 100) {
+    std::printf("resident (MB) after frame");
+    for (std::size_t n = 50; n <= figs[0].rss.size(); n *= 2) std::printf("  %zu: %.0f", n, figs[0].rss[n - 1]);
+    std::printf("  %zu: %.0f\n", figs[0].rss.size(), figs[0].rss.back());
+  }
 
   nlohmann::json j;
   j["bench"] = "pipeline", j["quick"] = quick, j["frames_per_set"] = frames, j["in_flight"] = in_flight;
@@ -302,6 +319,7 @@ int main(int argc, char** argv) {
     for (const auto& t : f.timings) s["stage_median_ms"][t.node] = std::round(t.median_ms * 100) / 100;
   }
   j["peak_mb"] = std::round(peak * 10) / 10, j["rss_growth_mb"] = std::round((highest - settled) * 100) / 100;
+  if (!std::isnan(trend)) j["rss_trend_mb"] = std::round(trend * 100) / 100;
   std::printf("%s\n", j.dump().c_str());
   // both modes must give the same results: a difference is a bug, not a figure
   for (const auto& f : figs)

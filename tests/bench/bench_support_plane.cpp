@@ -1,6 +1,9 @@
 // bench_support_plane: the support plane (extension::find_support_plane) against PCL's RANSAC plane
 // segmentation (SACSegmentation, SACMODEL_PERPENDICULAR_PLANE when gravity is known, else
-// SACMODEL_PLANE), and the depth filter (signal::filter_depth) against OpenCV's bilateralFilter,
+// SACMODEL_PLANE) and PCL's organized multi-plane segmentation (OrganizedMultiPlaneSegmentation on
+// the organized cloud with PCL's integral-image normals, as in PCL's tutorial; the normals are
+// given to both and not timed; its plane is the largest one facing up within 15 degrees, or the
+// largest when gravity is unknown), and the depth filter (signal::filter_depth) against OpenCV's bilateralFilter,
 // in one process on the same frames: noisy synthetic VGA frames (exact table plane, clean depth)
 // and the real mOSD frames (reference: a least-squares plane through the points labelled table).
 //
@@ -15,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,6 +28,8 @@
 #include <pcl/point_types.h>
 #include <pcl/sample_consensus/method_types.h>
 #include <pcl/sample_consensus/model_types.h>
+#include <pcl/features/integral_image_normal.h>
+#include <pcl/segmentation/organized_multi_plane_segmentation.h>
 #include <pcl/segmentation/sac_segmentation.h>
 
 #include "mereo/extension/normals.hpp"
@@ -53,6 +59,8 @@ struct Input {
   std::optional<Eigen::Vector3d> up;     // gravity, when known
   DepthImage noisy, clean;               // synthetic only
   pcl::PointCloud<pcl::PointXYZ>::Ptr pcl_cloud;
+  pcl::PointCloud<pcl::PointXYZ>::Ptr organized;  // W x H, NaN where no depth
+  pcl::PointCloud<pcl::Normal>::Ptr pcl_normals;   // PCL's integral-image normals
 };
 
 struct Stat {
@@ -75,6 +83,20 @@ int main(int argc, char** argv) {
       const float* p = in.cloud.data() + 3 * i;
       if (std::isfinite(p[2])) in.pcl_cloud->push_back(pcl::PointXYZ(p[0], p[1], p[2]));
     }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    in.organized.reset(new pcl::PointCloud<pcl::PointXYZ>(in.cloud.cols(), in.cloud.rows()));
+    in.organized->is_dense = false;
+    for (std::size_t i = 0; i < in.cloud.pixels(); ++i) {
+      const float* p = in.cloud.data() + 3 * i;
+      in.organized->points[i] = std::isfinite(p[2]) ? pcl::PointXYZ(p[0], p[1], p[2]) : pcl::PointXYZ(nan, nan, nan);
+    }
+    pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+    ne.setNormalEstimationMethod(ne.AVERAGE_3D_GRADIENT);
+    ne.setMaxDepthChangeFactor(0.02f);
+    ne.setNormalSmoothingSize(10.0f);
+    ne.setInputCloud(in.organized);
+    in.pcl_normals.reset(new pcl::PointCloud<pcl::Normal>);
+    ne.compute(*in.pcl_normals);
   };
   for (int s = 0; s < n_syn; ++s) {
     const auto sf = synthetic::render(std::uint64_t(300 + s));
@@ -114,7 +136,7 @@ int main(int argc, char** argv) {
     inputs.push_back(std::move(in));
   }
 
-  Stat mereo_plane, pcl_plane, mereo_filter, cv_filter;
+  Stat mereo_plane, pcl_plane, omps_plane, mereo_filter, cv_filter;
   for (const Input& in : inputs) {
     for (int rep = 0; rep < repeats; ++rep) {
       extension::SupportPlaneOptions o;
@@ -146,6 +168,32 @@ int main(int argc, char** argv) {
         pcl_plane.err.push_back(coef.values.size() == 4
                                     ? angle_deg(Eigen::Vector3d(coef.values[0], coef.values[1], coef.values[2]), in.reference)
                                     : 90.0);
+
+      // PCL's organized multi-plane segmentation: its planes, and the support among them
+      pcl::OrganizedMultiPlaneSegmentation<pcl::PointXYZ, pcl::Normal, pcl::Label> omps;
+      omps.setMinInliers(unsigned(o.min_inliers));
+      omps.setAngularThreshold(3.0 * M_PI / 180.0);
+      omps.setDistanceThreshold(0.02);
+      omps.setInputCloud(in.organized);
+      omps.setInputNormals(in.pcl_normals);
+      std::vector<pcl::ModelCoefficients> planes;
+      std::vector<pcl::PointIndices> plane_inliers;
+      t0 = now_ms();
+      omps.segment(planes, plane_inliers);
+      omps_plane.ms.push_back(now_ms() - t0);
+      if (rep == 0) {
+        std::size_t best = planes.size(), most = 0;
+        for (std::size_t k = 0; k < planes.size(); ++k) {
+          const Eigen::Vector3d n(planes[k].values[0], planes[k].values[1], planes[k].values[2]);
+          if (in.up && std::abs(n.normalized().dot(*in.up)) < std::cos(15.0 * M_PI / 180.0)) continue;
+          if (plane_inliers[k].indices.size() > most) most = plane_inliers[k].indices.size(), best = k;
+        }
+        omps_plane.err.push_back(best < planes.size() ? angle_deg(Eigen::Vector3d(planes[best].values[0],
+                                                                                   planes[best].values[1],
+                                                                                   planes[best].values[2]),
+                                                                   in.reference)
+                                                      : 90.0);
+      }
       if (in.clean.empty()) continue;
       t0 = now_ms();
       const DepthImage ours = signal::filter_depth(in.noisy);
@@ -188,6 +236,9 @@ int main(int argc, char** argv) {
               maxv(mereo_plane.err));
   std::printf("%-34s %9.2f %14.3f %13.3f\n", "pcl SACSegmentation (RANSAC, LS)", median(pcl_plane.ms), mean(pcl_plane.err),
               maxv(pcl_plane.err));
+  std::printf("%-34s %9.2f %14.3f %13.3f\n", "pcl OrganizedMultiPlaneSegmentation", median(omps_plane.ms),
+              mean(omps_plane.err), maxv(omps_plane.err));
+  std::printf("(speed-up over OrganizedMultiPlaneSegmentation: %.2fx)\n", median(omps_plane.ms) / median(mereo_plane.ms));
   std::printf("\n%-34s %9s %14s\n", "depth filter (synthetic)", "ms", "RMS err mm");
   std::printf("%-34s %9.2f %14.2f\n", "mereo filter_depth", median(mereo_filter.ms), mean(mereo_filter.rms));
   std::printf("%-34s %9.2f %14.2f\n", "opencv bilateralFilter", median(cv_filter.ms), mean(cv_filter.rms));
@@ -195,9 +246,12 @@ int main(int argc, char** argv) {
               "\"mereo_plane\": {\"median_ms\": %.3f, \"mean_error_deg\": %.4f, \"max_error_deg\": %.4f}, "
               "\"pcl_plane\": {\"median_ms\": %.3f, \"mean_error_deg\": %.4f, \"max_error_deg\": %.4f}, "
               "\"plane_speedup_vs_pcl\": %.3f, "
+              "\"omps_plane\": {\"median_ms\": %.3f, \"mean_error_deg\": %.4f, \"max_error_deg\": %.4f}, "
+              "\"plane_speedup_vs_omps\": %.3f, "
               "\"mereo_filter\": {\"median_ms\": %.3f, \"rms_mm\": %.3f}, \"opencv_bilateral\": {\"median_ms\": %.3f, \"rms_mm\": %.3f}}\n",
               quick ? "true" : "false", inputs.size(), median(mereo_plane.ms), mean(mereo_plane.err), maxv(mereo_plane.err),
               median(pcl_plane.ms), mean(pcl_plane.err), maxv(pcl_plane.err), median(pcl_plane.ms) / median(mereo_plane.ms),
+              median(omps_plane.ms), mean(omps_plane.err), maxv(omps_plane.err), median(omps_plane.ms) / median(mereo_plane.ms),
               median(mereo_filter.ms), mean(mereo_filter.rms), median(cv_filter.ms), mean(cv_filter.rms));
   return 0;
 }

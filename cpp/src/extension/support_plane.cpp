@@ -97,26 +97,45 @@ cv::Mat extent_region(const Cloud& cloud, const cv::Mat& region, const Eigen::Ve
 }
 
 /// PCA plane of the masked points (of a region on every `stride`-th pixel): returns the RMS
-/// distance; n oriented with d > 0; count is the region's pixels.
+/// distance; n oriented with d > 0; count is the region's pixels. The moments are summed over
+/// fixed bands of rows in parallel, then over the bands in order (the same sum every run).
 double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, double& d,
                  Eigen::Vector3d& centroid, std::size_t& count, int stride = 1) {
-  Eigen::Vector3d s = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d ss = Eigen::Matrix3d::Zero();
-  count = 0;
-  for (int v = 0; v < region.rows; ++v) {
-    const std::uint8_t* m = region.ptr<std::uint8_t>(v);
-    for (int u = 0; u < region.cols; ++u) {
-      if (!m[u]) continue;
-      const float* p = cloud.ptr(stride * v, stride * u);
-      const Eigen::Vector3d x(p[0], p[1], p[2]);
-      s += x;
-      ss += x * x.transpose();
-      ++count;
+  struct Moments {
+    double s[3] = {0, 0, 0}, ss[6] = {0, 0, 0, 0, 0, 0};  // sums of x, y, z; xx, xy, xz, yy, yz, zz
+    std::size_t count = 0;
+  };
+  constexpr int kBand = 16;
+  std::vector<Moments> bands(std::size_t((region.rows + kBand - 1) / kBand));
+  tbb::parallel_for(std::size_t(0), bands.size(), [&](std::size_t b) {
+    Moments m;
+    const int v1 = std::min(region.rows, int(b + 1) * kBand);
+    for (int v = int(b) * kBand; v < v1; ++v) {
+      const std::uint8_t* r = region.ptr<std::uint8_t>(v);
+      for (int u = 0; u < region.cols; ++u) {
+        if (!r[u]) continue;
+        const float* p = cloud.ptr(stride * v, stride * u);
+        const double x = p[0], y = p[1], z = p[2];
+        m.s[0] += x, m.s[1] += y, m.s[2] += z;
+        m.ss[0] += x * x, m.ss[1] += x * y, m.ss[2] += x * z, m.ss[3] += y * y, m.ss[4] += y * z, m.ss[5] += z * z;
+        ++m.count;
+      }
     }
+    bands[b] = m;
+  });
+  Moments all;
+  for (const Moments& m : bands) {
+    for (int k = 0; k < 3; ++k) all.s[k] += m.s[k];
+    for (int k = 0; k < 6; ++k) all.ss[k] += m.ss[k];
+    all.count += m.count;
   }
+  count = all.count;
   if (count < 3) return INFINITY;
-  centroid = s / double(count);
-  const Eigen::Matrix3d C = ss / double(count) - centroid * centroid.transpose();
+  const double c = double(count);
+  centroid = Eigen::Vector3d(all.s[0], all.s[1], all.s[2]) / c;
+  Eigen::Matrix3d C;
+  C << all.ss[0], all.ss[1], all.ss[2], all.ss[1], all.ss[3], all.ss[4], all.ss[2], all.ss[4], all.ss[5];
+  C = C / c - centroid * centroid.transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
   n = es.eigenvectors().col(0).normalized();
   d = -n.dot(centroid);
@@ -350,7 +369,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     if (8 * 1.5 * double(support[h] * std::size_t(o.step * o.step)) < o.min_share * heaviest) continue;
     // weighed on every second pixel of every second row (kStride); the chosen one is then
     // refitted at full resolution from its seed
-    constexpr int kStride = 2;
+    constexpr int kStride = 4;
     Candidate c;
     c.seed = h;
     c.n = s.n.cast<double>().normalized();

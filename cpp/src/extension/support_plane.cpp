@@ -54,12 +54,14 @@ cv::Mat near_plane(const Cloud& cloud, const NormalMap* normals, const Eigen::Ve
 
 /// 255 where `labels` holds a label that `keep` marks, 0 elsewhere.
 cv::Mat kept_labels(const cv::Mat& labels, const std::vector<std::uint8_t>& keep) {
-  cv::Mat out(labels.rows, labels.cols, CV_8U, cv::Scalar(0));
-  for (int v = 0; v < labels.rows; ++v) {
-    const int* l = labels.ptr<int>(v);
-    std::uint8_t* o = out.ptr<std::uint8_t>(v);
-    for (int u = 0; u < labels.cols; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
-  }
+  cv::Mat out(labels.rows, labels.cols, CV_8U);
+  tbb::parallel_for(tbb::blocked_range<int>(0, labels.rows, 32), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      const int* l = labels.ptr<int>(v);
+      std::uint8_t* o = out.ptr<std::uint8_t>(v);
+      for (int u = 0; u < labels.cols; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
+    }
+  });
   return out;
 }
 
@@ -68,9 +70,9 @@ cv::Mat kept_labels(const cv::Mat& labels, const std::vector<std::uint8_t>& keep
 /// (stride v, stride u)).
 cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen::Vector3d& n,
                       double d, double eps, double cos_dev, int stride = 1) {
-  cv::Mat labels, stats, centroids;
+  cv::Mat labels, stats, centroids;  // (Bolelli's Spaghetti labelling: OpenCV's fastest)
   const int count = cv::connectedComponentsWithStats(near_plane(cloud, &normals, n, d, eps, cos_dev, stride), labels,
-                                                     stats, centroids, 4, CV_32S);
+                                                     stats, centroids, 4, CV_32S, cv::CCL_BOLELLI);
   int best_area = 0;
   for (int k = 1; k < count; ++k) best_area = std::max(best_area, stats.at<int>(k, cv::CC_STAT_AREA));
   // the largest region and the pieces of the same plane that objects standing on it cut off
@@ -84,7 +86,8 @@ cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen:
 /// inliers with agreeing normals leave a filigree that covers a part of the table only.
 cv::Mat extent_region(const Cloud& cloud, const cv::Mat& region, const Eigen::Vector3d& n, double d, double eps) {
   cv::Mat labels;
-  const int count = cv::connectedComponents(near_plane(cloud, nullptr, n, d, eps, 0, 1), labels, 4, CV_32S);
+  const int count =
+      cv::connectedComponents(near_plane(cloud, nullptr, n, d, eps, 0, 1), labels, 4, CV_32S, cv::CCL_BOLELLI);
   std::vector<std::uint8_t> keep(std::size_t(count), 0);
   for (int v = 0; v < labels.rows; ++v) {
     const int* l = labels.ptr<int>(v);
@@ -228,6 +231,60 @@ inline bool central(int u, int v, int W, int H) {
   return std::abs(u - W / 2) < W / 4 && std::abs(v - H / 2) < H / 4;
 }
 
+/// Whether plane points (world x, y) lie inside a convex counter-clockwise polygon shrunk by
+/// `margin`: every edge's signed distance at least margin. A grid of cells over the polygon
+/// answers for the cells wholly inside or wholly outside (the distances are 1-Lipschitz, so the
+/// centre's tell for the cell within half its diagonal); points in the cells the border crosses
+/// get the exact test.
+class InsidePolygon {
+ public:
+  InsidePolygon(const std::vector<Eigen::Vector2d>& poly, double margin) : margin_(margin) {
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - poly[i];
+      if (e.norm() > 0) edges_.push_back({poly[i], e, e.norm()});
+    }
+    lo_ = hi_ = poly.front();
+    for (const auto& x : poly) lo_ = lo_.cwiseMin(x), hi_ = hi_.cwiseMax(x);
+    const double grow = std::max(0.0, -margin) + 1e-6;  // a grown polygon reaches beyond its vertices
+    lo_ -= Eigen::Vector2d::Constant(grow), hi_ += Eigen::Vector2d::Constant(grow);
+    cell_ = std::max({0.02, (hi_.x() - lo_.x()) / kMaxCells, (hi_.y() - lo_.y()) / kMaxCells});
+    nx_ = int((hi_.x() - lo_.x()) / cell_) + 1, ny_ = int((hi_.y() - lo_.y()) / cell_) + 1;
+    const double reach = cell_ * std::sqrt(0.5) + 1e-9;  // half a cell's diagonal
+    state_.assign(std::size_t(nx_) * std::size_t(ny_), kBorder);
+    for (int j = 0; j < ny_; ++j)
+      for (int i = 0; i < nx_; ++i) {
+        const Eigen::Vector2d c = lo_ + cell_ * Eigen::Vector2d(i + 0.5, j + 0.5);
+        double m = INFINITY;
+        for (const Edge& e : edges_) m = std::min(m, side(e, c.x(), c.y()));
+        state_[std::size_t(j) * nx_ + i] = m - reach >= margin_ ? kInside : m + reach < margin_ ? kOutside : kBorder;
+      }
+  }
+  bool operator()(double x, double y) const {
+    if (!(x >= lo_.x() && x < hi_.x() && y >= lo_.y() && y < hi_.y())) return edges_.empty();
+    const std::uint8_t s = state_[std::size_t(int((y - lo_.y()) / cell_)) * nx_ + std::size_t(int((x - lo_.x()) / cell_))];
+    if (s != kBorder) return s == kInside;
+    for (const Edge& e : edges_)
+      if (side(e, x, y) < margin_) return false;
+    return true;
+  }
+
+ private:
+  struct Edge {
+    Eigen::Vector2d a, e;  // a vertex, the edge to the next
+    double len;
+  };
+  static constexpr std::uint8_t kInside = 0, kOutside = 1, kBorder = 2;
+  static constexpr double kMaxCells = 48;
+  /// The signed distance of (x, y) from the edge's line, positive inside (as region_above had it).
+  static double side(const Edge& e, double x, double y) { return (e.e.x() * (y - e.a.y()) - e.e.y() * (x - e.a.x())) / e.len; }
+  double margin_;
+  std::vector<Edge> edges_;
+  Eigen::Vector2d lo_, hi_;
+  double cell_ = 0.005;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::uint8_t> state_;
+};
+
 /// region_above on every `stride`-th pixel of every `stride`-th row (the others stay 0).
 Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double min_height,
                           double max_height, double margin, int stride) {
@@ -238,6 +295,7 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
   const Pose& T = plane.world_from_camera;
   std::vector<Eigen::Vector2d> poly = polygon_2d(plane);
   if (signed_area2(poly) < 0) std::reverse(poly.begin(), poly.end());
+  const InsidePolygon inside(poly, margin);
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   tbb::parallel_for(tbb::blocked_range<int>(0, (H + stride - 1) / stride, 8), [&](const tbb::blocked_range<int>& rows) {
@@ -247,16 +305,7 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
         if (!valid_point(p)) continue;
         const Eigen::Vector3f w = R * Eigen::Vector3f(p[0], p[1], p[2]) + t;
         if (w.z() < min_height * std::max(1.f, p[2] * p[2]) || w.z() > max_height) continue;
-        bool inside = true;
-        for (std::size_t i = 0; i < poly.size() && inside; ++i) {
-          const Eigen::Vector2d& a = poly[i];
-          const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - a;
-          const double len = e.norm();
-          if (len <= 0) continue;
-          const double side = (e.x() * (w.y() - a.y()) - e.y() * (w.x() - a.x())) / len;
-          inside = side >= margin;
-        }
-        if (inside) roi(v, u) = 1;
+        if (inside(w.x(), w.y())) roi(v, u) = 1;
       }
     }
   });

@@ -387,9 +387,10 @@ TEST(SupportPlane, FoundOnEveryRealMosdFrameWithinTwoDegreesOfTheLabelledTable) 
 }
 
 // region_above's polygon test (a grid of cells wholly inside or outside, the exact test in the
-// cells the border crosses) against the exact test everywhere: a tilted plane, a convex polygon of
-// 40 vertices (a circle's, as the hull of a round table has), random points from just below the
-// plane to above max_height, margins that shrink and grow the polygon.
+// cells the border crosses) against the exact test everywhere: a tilted plane, convex polygons (40
+// vertices of an ellipse, as the hull of a round table has; a thin triangle, whose grown corners
+// reach far beyond its vertices), random points from just below the plane to above max_height,
+// margins that shrink and grow the polygon.
 TEST(SupportPlane, RegionAboveIsTheExactPolygonTest) {
   extension::SupportPlane plane;
   const Eigen::Vector3d n = Eigen::Vector3d(0.1, -0.8, -0.5).normalized();
@@ -400,42 +401,46 @@ TEST(SupportPlane, RegionAboveIsTheExactPolygonTest) {
   R << ex, ey, n;
   plane.world_from_camera.linear() = R.transpose();
   plane.world_from_camera.translation() = -R.transpose() * centre;
-  std::vector<Eigen::Vector2d> poly;
+  std::vector<std::vector<Eigen::Vector2d>> polygons(2);
   for (int k = 0; k < 40; ++k) {
     const double a = 2 * M_PI * k / 40;
-    poly.emplace_back(0.3 * std::cos(a) + 0.02, 0.25 * std::sin(a));
-    plane.polygon.push_back(plane.world_from_camera.inverse() * Eigen::Vector3d(poly.back().x(), poly.back().y(), 0));
+    polygons[0].emplace_back(0.3 * std::cos(a) + 0.02, 0.25 * std::sin(a));
   }
+  polygons[1] = {{-0.3, -0.05}, {0.3, -0.02}, {-0.25, 0.05}};
   const int H = 120, W = 160;
   Cloud cloud(H, W, NAN);
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> xy(-0.4, 0.4), h(-0.01, 0.45);
+  std::uniform_real_distribution<double> xy(-0.45, 0.45), h(-0.01, 0.45);
   for (int v = 0; v < H; ++v)
     for (int u = 0; u < W; ++u) {
       if (v % 17 == 3) continue;  // rows without depth
       const Eigen::Vector3d x = plane.world_from_camera.inverse() * Eigen::Vector3d(xy(rng), xy(rng), h(rng));
       for (int k = 0; k < 3; ++k) cloud(v, u, k) = float(x(k));
     }
-  for (double margin : {-0.03, 0.0, 0.04}) {
-    const extension::Mask roi = extension::region_above(cloud, plane, 0.006, 0.40, margin);
-    std::size_t inside = 0;
-    for (int v = 0; v < H; ++v)
-      for (int u = 0; u < W; ++u) {
-        bool want = false;
-        if (std::isfinite(cloud(v, u, 2))) {
-          const Eigen::Vector3f w = plane.world_from_camera.linear().cast<float>() *
-                                        Eigen::Vector3f(cloud(v, u, 0), cloud(v, u, 1), cloud(v, u, 2)) +
-                                    plane.world_from_camera.translation().cast<float>();
-          want = w.z() >= 0.006 * std::max(1.f, cloud(v, u, 2) * cloud(v, u, 2)) && w.z() <= 0.40;
-          for (std::size_t i = 0; i < poly.size() && want; ++i) {
-            const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - poly[i];
-            want = (e.x() * (w.y() - poly[i].y()) - e.y() * (w.x() - poly[i].x())) / e.norm() >= margin;
+  for (const auto& poly : polygons) {
+    plane.polygon.clear();
+    for (const auto& p : poly) plane.polygon.push_back(plane.world_from_camera.inverse() * Eigen::Vector3d(p.x(), p.y(), 0));
+    for (double margin : {-0.03, 0.0, 0.01}) {
+      const extension::Mask roi = extension::region_above(cloud, plane, 0.006, 0.40, margin);
+      std::size_t inside = 0;
+      for (int v = 0; v < H; ++v)
+        for (int u = 0; u < W; ++u) {
+          bool want = false;
+          if (std::isfinite(cloud(v, u, 2))) {
+            const Eigen::Vector3f w = plane.world_from_camera.linear().cast<float>() *
+                                          Eigen::Vector3f(cloud(v, u, 0), cloud(v, u, 1), cloud(v, u, 2)) +
+                                      plane.world_from_camera.translation().cast<float>();
+            want = w.z() >= 0.006 * std::max(1.f, cloud(v, u, 2) * cloud(v, u, 2)) && w.z() <= 0.40;
+            for (std::size_t i = 0; i < poly.size() && want; ++i) {
+              const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - poly[i];
+              want = (e.x() * (w.y() - poly[i].y()) - e.y() * (w.x() - poly[i].x())) / e.norm() >= margin;
+            }
           }
+          ASSERT_EQ(roi(v, u) != 0, want) << poly.size() << " vertices, margin " << margin << " at " << v << ", " << u;
+          inside += want;
         }
-        ASSERT_EQ(roi(v, u) != 0, want) << "margin " << margin << " at " << v << ", " << u;
-        inside += want;
-      }
-    EXPECT_GT(inside, 1000u) << "margin " << margin;  // (the test sees both answers)
+      EXPECT_GT(inside, 100u) << poly.size() << " vertices, margin " << margin;  // (both answers seen)
+    }
   }
 }
 

@@ -245,8 +245,7 @@ class InsidePolygon {
     }
     lo_ = hi_ = poly.front();
     for (const auto& x : poly) lo_ = lo_.cwiseMin(x), hi_ = hi_.cwiseMax(x);
-    const double grow = std::max(0.0, -margin) + 1e-6;  // a grown polygon reaches beyond its vertices
-    lo_ -= Eigen::Vector2d::Constant(grow), hi_ += Eigen::Vector2d::Constant(grow);
+    lo_ -= Eigen::Vector2d::Constant(1e-6), hi_ += Eigen::Vector2d::Constant(1e-6);
     cell_ = std::max({0.02, (hi_.x() - lo_.x()) / kMaxCells, (hi_.y() - lo_.y()) / kMaxCells});
     nx_ = int((hi_.x() - lo_.x()) / cell_) + 1, ny_ = int((hi_.y() - lo_.y()) / cell_) + 1;
     const double reach = cell_ * std::sqrt(0.5) + 1e-9;  // half a cell's diagonal
@@ -260,9 +259,12 @@ class InsidePolygon {
       }
   }
   bool operator()(double x, double y) const {
-    if (!(x >= lo_.x() && x < hi_.x() && y >= lo_.y() && y < hi_.y())) return edges_.empty();
-    const std::uint8_t s = state_[std::size_t(int((y - lo_.y()) / cell_)) * nx_ + std::size_t(int((x - lo_.x()) / cell_))];
-    if (s != kBorder) return s == kInside;
+    if (x >= lo_.x() && x < hi_.x() && y >= lo_.y() && y < hi_.y()) {
+      const std::size_t i = std::size_t((x - lo_.x()) / cell_), j = std::size_t((y - lo_.y()) / cell_);
+      if (state_[j * std::size_t(nx_) + i] != kBorder) return state_[j * std::size_t(nx_) + i] == kInside;
+    } else if (margin_ >= 0) {
+      return edges_.empty();  // (a polygon grown by -margin reaches beyond its vertices' box)
+    }
     for (const Edge& e : edges_)
       if (side(e, x, y) < margin_) return false;
     return true;

@@ -31,7 +31,7 @@ def panel(ax, rows, x, labels, xlabel):
         ms = [r["stage_median_ms"][st] for r in rows]
         ax.bar(x, ms, bottom=bottom, width=0.6, label=st)
         bottom = [b + m for b, m in zip(bottom, ms)]
-    ax.bar(x, [r["median_ms"] - b for r, b in zip(rows, bottom)], bottom=bottom, width=0.6, color="lightgrey",
+    ax.bar(x, [max(0.0, r["median_ms"] - b) for r, b in zip(rows, bottom)], bottom=bottom, width=0.6, color="lightgrey",
            label="rest (matching, regions, result)")
     ax.plot(x, [1000.0 / r["fps"] for r in rows], "k.--", label="1000 / frames per second, parallel")
     ax.set_xticks(x, labels)

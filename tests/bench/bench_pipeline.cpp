@@ -196,7 +196,7 @@ int run_growth(graph::Graph& g, std::size_t frames, std::size_t distinct, std::s
       rest -= std::isnan(ms) ? 0.0 : ms;
       row["stage_median_ms"][st] = std::round(ms * 100) / 100;
     }
-    std::printf(" %8.1f\n", rest);
+    std::printf(" %8.1f\n", std::max(0.0, rest));
     j[axis].push_back(row);
   }
   std::printf("\n(ms/frame: 1000 / frames per second in parallel mode; one at a time: the median frame in "

@@ -177,18 +177,21 @@ int run_growth(graph::Graph& g, std::size_t frames, std::size_t distinct, std::s
   for (const auto& p : points) {
     if (p.axis != axis) {
       axis = p.axis;
-      std::printf("\n%s\n%-12s %9s %9s %10s", axis == "objects" ? "objects on the table (VGA)" : "image size (3-6 objects)",
+      std::printf("\n%s\n%-12s %9s %9s %10s",
+                  axis == "objects" ? "objects on the table (VGA)" : "image size (3-6 objects)",
                   axis == "objects" ? "objects" : "size", "frames/s", "ms/frame", "one at a");
       for (const auto& st : stages) std::printf(" %10s", st.c_str());
       std::printf(" %8s\n", "rest");
     }
     const SetFigures f = run_set(g, axis, growth_set(p.objects, p.width, p.height, distinct), frames, in_flight);
     same = same && f.mismatches == 0;
-    const std::string label = axis == "objects" ? std::to_string(p.objects) : std::to_string(p.width) + "x" + std::to_string(p.height);
+    const std::string label =
+        axis == "objects" ? std::to_string(p.objects) : std::to_string(p.width) + "x" + std::to_string(p.height);
     std::printf("%-12s %9.1f %9.1f %10.1f", label.c_str(), f.fps, 1000.0 / f.fps, f.median_one_at_a_time_ms);
     double rest = f.median_one_at_a_time_ms;
     nlohmann::json row = {{"objects", p.objects}, {"width", p.width}, {"height", p.height},
-                          {"fps", std::round(f.fps * 100) / 100}, {"median_ms", std::round(f.median_one_at_a_time_ms * 100) / 100},
+                          {"fps", std::round(f.fps * 100) / 100},
+                          {"median_ms", std::round(f.median_one_at_a_time_ms * 100) / 100},
                           {"same_results", f.frames - f.mismatches}};
     for (const auto& st : stages) {
       const double ms = stage_ms(f, st);

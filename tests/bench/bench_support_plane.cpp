@@ -238,7 +238,8 @@ int main(int argc, char** argv) {
               maxv(pcl_plane.err));
   std::printf("%-34s %9.2f %14.3f %13.3f\n", "pcl OrganizedMultiPlaneSegmentation", median(omps_plane.ms),
               mean(omps_plane.err), maxv(omps_plane.err));
-  std::printf("(speed-up over OrganizedMultiPlaneSegmentation: %.2fx)\n", median(omps_plane.ms) / median(mereo_plane.ms));
+  std::printf("(speed-up over OrganizedMultiPlaneSegmentation: %.2fx)\n",
+              median(omps_plane.ms) / median(mereo_plane.ms));
   std::printf("\n%-34s %9s %14s\n", "depth filter (synthetic)", "ms", "RMS err mm");
   std::printf("%-34s %9.2f %14.2f\n", "mereo filter_depth", median(mereo_filter.ms), mean(mereo_filter.rms));
   std::printf("%-34s %9.2f %14.2f\n", "opencv bilateralFilter", median(cv_filter.ms), mean(cv_filter.rms));

@@ -419,7 +419,8 @@ TEST(SupportPlane, RegionAboveIsTheExactPolygonTest) {
     }
   for (const auto& poly : polygons) {
     plane.polygon.clear();
-    for (const auto& p : poly) plane.polygon.push_back(plane.world_from_camera.inverse() * Eigen::Vector3d(p.x(), p.y(), 0));
+    for (const auto& p : poly)
+      plane.polygon.push_back(plane.world_from_camera.inverse() * Eigen::Vector3d(p.x(), p.y(), 0));
     for (double margin : {-0.03, 0.0, 0.01}) {
       const extension::Mask roi = extension::region_above(cloud, plane, 0.006, 0.40, margin);
       std::size_t inside = 0;

@@ -278,7 +278,9 @@ class InsidePolygon {
   static constexpr std::uint8_t kInside = 0, kOutside = 1, kBorder = 2;
   static constexpr double kMaxCells = 48;
   /// The signed distance of (x, y) from the edge's line, positive inside (as region_above had it).
-  static double side(const Edge& e, double x, double y) { return (e.e.x() * (y - e.a.y()) - e.e.y() * (x - e.a.x())) / e.len; }
+  static double side(const Edge& e, double x, double y) {
+    return (e.e.x() * (y - e.a.y()) - e.e.y() * (x - e.a.x())) / e.len;
+  }
   double margin_;
   std::vector<Edge> edges_;
   Eigen::Vector2d lo_, hi_;

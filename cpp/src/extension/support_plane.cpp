@@ -422,7 +422,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     if (8 * 1.5 * double(support[h] * std::size_t(o.step * o.step)) < o.min_share * heaviest) continue;
     // weighed on every second pixel of every second row (kStride); the chosen one is then
     // refitted at full resolution from its seed
-    constexpr int kStride = 4;
+    constexpr int kStride = 2;
     Candidate c;
     c.seed = h;
     c.n = s.n.cast<double>().normalized();

@@ -54,14 +54,12 @@ cv::Mat near_plane(const Cloud& cloud, const NormalMap* normals, const Eigen::Ve
 
 /// 255 where `labels` holds a label that `keep` marks, 0 elsewhere.
 cv::Mat kept_labels(const cv::Mat& labels, const std::vector<std::uint8_t>& keep) {
-  cv::Mat out(labels.rows, labels.cols, CV_8U);
-  tbb::parallel_for(tbb::blocked_range<int>(0, labels.rows, 32), [&](const tbb::blocked_range<int>& rows) {
-    for (int v = rows.begin(); v < rows.end(); ++v) {
-      const int* l = labels.ptr<int>(v);
-      std::uint8_t* o = out.ptr<std::uint8_t>(v);
-      for (int u = 0; u < labels.cols; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
-    }
-  });
+  cv::Mat out(labels.rows, labels.cols, CV_8U, cv::Scalar(0));
+  for (int v = 0; v < labels.rows; ++v) {
+    const int* l = labels.ptr<int>(v);
+    std::uint8_t* o = out.ptr<std::uint8_t>(v);
+    for (int u = 0; u < labels.cols; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
+  }
   return out;
 }
 
@@ -70,9 +68,9 @@ cv::Mat kept_labels(const cv::Mat& labels, const std::vector<std::uint8_t>& keep
 /// (stride v, stride u)).
 cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen::Vector3d& n,
                       double d, double eps, double cos_dev, int stride = 1) {
-  cv::Mat labels, stats, centroids;  // (Bolelli's Spaghetti labelling: OpenCV's fastest)
+  cv::Mat labels, stats, centroids;
   const int count = cv::connectedComponentsWithStats(near_plane(cloud, &normals, n, d, eps, cos_dev, stride), labels,
-                                                     stats, centroids, 4, CV_32S, cv::CCL_BOLELLI);
+                                                     stats, centroids, 4, CV_32S);
   int best_area = 0;
   for (int k = 1; k < count; ++k) best_area = std::max(best_area, stats.at<int>(k, cv::CC_STAT_AREA));
   // the largest region and the pieces of the same plane that objects standing on it cut off
@@ -86,8 +84,7 @@ cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen:
 /// inliers with agreeing normals leave a filigree that covers a part of the table only.
 cv::Mat extent_region(const Cloud& cloud, const cv::Mat& region, const Eigen::Vector3d& n, double d, double eps) {
   cv::Mat labels;
-  const int count =
-      cv::connectedComponents(near_plane(cloud, nullptr, n, d, eps, 0, 1), labels, 4, CV_32S, cv::CCL_BOLELLI);
+  const int count = cv::connectedComponents(near_plane(cloud, nullptr, n, d, eps, 0, 1), labels, 4, CV_32S);
   std::vector<std::uint8_t> keep(std::size_t(count), 0);
   for (int v = 0; v < labels.rows; ++v) {
     const int* l = labels.ptr<int>(v);
@@ -100,45 +97,26 @@ cv::Mat extent_region(const Cloud& cloud, const cv::Mat& region, const Eigen::Ve
 }
 
 /// PCA plane of the masked points (of a region on every `stride`-th pixel): returns the RMS
-/// distance; n oriented with d > 0; count is the region's pixels. The moments are summed over
-/// fixed bands of rows in parallel, then over the bands in order (the same sum every run).
+/// distance; n oriented with d > 0; count is the region's pixels.
 double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, double& d,
                  Eigen::Vector3d& centroid, std::size_t& count, int stride = 1) {
-  struct Moments {
-    double s[3] = {0, 0, 0}, ss[6] = {0, 0, 0, 0, 0, 0};  // sums of x, y, z; xx, xy, xz, yy, yz, zz
-    std::size_t count = 0;
-  };
-  constexpr int kBand = 16;
-  std::vector<Moments> bands(std::size_t((region.rows + kBand - 1) / kBand));
-  tbb::parallel_for(std::size_t(0), bands.size(), [&](std::size_t b) {
-    Moments m;
-    const int v1 = std::min(region.rows, int(b + 1) * kBand);
-    for (int v = int(b) * kBand; v < v1; ++v) {
-      const std::uint8_t* r = region.ptr<std::uint8_t>(v);
-      for (int u = 0; u < region.cols; ++u) {
-        if (!r[u]) continue;
-        const float* p = cloud.ptr(stride * v, stride * u);
-        const double x = p[0], y = p[1], z = p[2];
-        m.s[0] += x, m.s[1] += y, m.s[2] += z;
-        m.ss[0] += x * x, m.ss[1] += x * y, m.ss[2] += x * z, m.ss[3] += y * y, m.ss[4] += y * z, m.ss[5] += z * z;
-        ++m.count;
-      }
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d ss = Eigen::Matrix3d::Zero();
+  count = 0;
+  for (int v = 0; v < region.rows; ++v) {
+    const std::uint8_t* m = region.ptr<std::uint8_t>(v);
+    for (int u = 0; u < region.cols; ++u) {
+      if (!m[u]) continue;
+      const float* p = cloud.ptr(stride * v, stride * u);
+      const Eigen::Vector3d x(p[0], p[1], p[2]);
+      s += x;
+      ss += x * x.transpose();
+      ++count;
     }
-    bands[b] = m;
-  });
-  Moments all;
-  for (const Moments& m : bands) {
-    for (int k = 0; k < 3; ++k) all.s[k] += m.s[k];
-    for (int k = 0; k < 6; ++k) all.ss[k] += m.ss[k];
-    all.count += m.count;
   }
-  count = all.count;
   if (count < 3) return INFINITY;
-  const double c = double(count);
-  centroid = Eigen::Vector3d(all.s[0], all.s[1], all.s[2]) / c;
-  Eigen::Matrix3d C;
-  C << all.ss[0], all.ss[1], all.ss[2], all.ss[1], all.ss[3], all.ss[4], all.ss[2], all.ss[4], all.ss[5];
-  C = C / c - centroid * centroid.transpose();
+  centroid = s / double(count);
+  const Eigen::Matrix3d C = ss / double(count) - centroid * centroid.transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
   n = es.eigenvectors().col(0).normalized();
   d = -n.dot(centroid);
@@ -231,64 +209,6 @@ inline bool central(int u, int v, int W, int H) {
   return std::abs(u - W / 2) < W / 4 && std::abs(v - H / 2) < H / 4;
 }
 
-/// Whether plane points (world x, y) lie inside a convex counter-clockwise polygon shrunk by
-/// `margin`: every edge's signed distance at least margin. A grid of cells over the polygon
-/// answers for the cells wholly inside or wholly outside (the distances are 1-Lipschitz, so the
-/// centre's tell for the cell within half its diagonal); points in the cells the border crosses
-/// get the exact test.
-class InsidePolygon {
- public:
-  InsidePolygon(const std::vector<Eigen::Vector2d>& poly, double margin) : margin_(margin) {
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-      const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - poly[i];
-      if (e.norm() > 0) edges_.push_back({poly[i], e, e.norm()});
-    }
-    lo_ = hi_ = poly.front();
-    for (const auto& x : poly) lo_ = lo_.cwiseMin(x), hi_ = hi_.cwiseMax(x);
-    lo_ -= Eigen::Vector2d::Constant(1e-6), hi_ += Eigen::Vector2d::Constant(1e-6);
-    cell_ = std::max({0.02, (hi_.x() - lo_.x()) / kMaxCells, (hi_.y() - lo_.y()) / kMaxCells});
-    nx_ = int((hi_.x() - lo_.x()) / cell_) + 1, ny_ = int((hi_.y() - lo_.y()) / cell_) + 1;
-    const double reach = cell_ * std::sqrt(0.5) + 1e-9;  // half a cell's diagonal
-    state_.assign(std::size_t(nx_) * std::size_t(ny_), kBorder);
-    for (int j = 0; j < ny_; ++j)
-      for (int i = 0; i < nx_; ++i) {
-        const Eigen::Vector2d c = lo_ + cell_ * Eigen::Vector2d(i + 0.5, j + 0.5);
-        double m = INFINITY;
-        for (const Edge& e : edges_) m = std::min(m, side(e, c.x(), c.y()));
-        state_[std::size_t(j) * nx_ + i] = m - reach >= margin_ ? kInside : m + reach < margin_ ? kOutside : kBorder;
-      }
-  }
-  bool operator()(double x, double y) const {
-    if (x >= lo_.x() && x < hi_.x() && y >= lo_.y() && y < hi_.y()) {
-      const std::size_t i = std::size_t((x - lo_.x()) / cell_), j = std::size_t((y - lo_.y()) / cell_);
-      if (state_[j * std::size_t(nx_) + i] != kBorder) return state_[j * std::size_t(nx_) + i] == kInside;
-    } else if (margin_ >= 0) {
-      return edges_.empty();  // (a polygon grown by -margin reaches beyond its vertices' box)
-    }
-    for (const Edge& e : edges_)
-      if (side(e, x, y) < margin_) return false;
-    return true;
-  }
-
- private:
-  struct Edge {
-    Eigen::Vector2d a, e;  // a vertex, the edge to the next
-    double len;
-  };
-  static constexpr std::uint8_t kInside = 0, kOutside = 1, kBorder = 2;
-  static constexpr double kMaxCells = 48;
-  /// The signed distance of (x, y) from the edge's line, positive inside (as region_above had it).
-  static double side(const Edge& e, double x, double y) {
-    return (e.e.x() * (y - e.a.y()) - e.e.y() * (x - e.a.x())) / e.len;
-  }
-  double margin_;
-  std::vector<Edge> edges_;
-  Eigen::Vector2d lo_, hi_;
-  double cell_ = 0.005;
-  int nx_ = 0, ny_ = 0;
-  std::vector<std::uint8_t> state_;
-};
-
 /// region_above on every `stride`-th pixel of every `stride`-th row (the others stay 0).
 Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double min_height,
                           double max_height, double margin, int stride) {
@@ -299,7 +219,6 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
   const Pose& T = plane.world_from_camera;
   std::vector<Eigen::Vector2d> poly = polygon_2d(plane);
   if (signed_area2(poly) < 0) std::reverse(poly.begin(), poly.end());
-  const InsidePolygon inside(poly, margin);
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   tbb::parallel_for(tbb::blocked_range<int>(0, (H + stride - 1) / stride, 8), [&](const tbb::blocked_range<int>& rows) {
@@ -309,7 +228,16 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
         if (!valid_point(p)) continue;
         const Eigen::Vector3f w = R * Eigen::Vector3f(p[0], p[1], p[2]) + t;
         if (w.z() < min_height * std::max(1.f, p[2] * p[2]) || w.z() > max_height) continue;
-        if (inside(w.x(), w.y())) roi(v, u) = 1;
+        bool inside = true;
+        for (std::size_t i = 0; i < poly.size() && inside; ++i) {
+          const Eigen::Vector2d& a = poly[i];
+          const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - a;
+          const double len = e.norm();
+          if (len <= 0) continue;
+          const double side = (e.x() * (w.y() - a.y()) - e.y() * (w.x() - a.x())) / len;
+          inside = side >= margin;
+        }
+        if (inside) roi(v, u) = 1;
       }
     }
   });
@@ -364,27 +292,19 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   std::vector<double> score(seeds.size(), 0.0);
   std::vector<std::size_t> support(seeds.size(), 0);
   const float eps = float(o.epsilon), cdev = float(cos_dev);
-  // the samples' coordinates, normals and tolerances as arrays: the scoring loop below runs
-  // 200 hypotheses over every sample, branch-free and vectorized
-  const std::size_t S = samples.size();
-  std::vector<float> px(S), py(S), pz(S), nx(S), ny(S), nz(S), tol(S);
-  std::vector<std::uint8_t> in_centre(S);
-  for (std::size_t i = 0; i < S; ++i) {
-    const Sample& x = samples[i];
-    px[i] = x.p.x(), py[i] = x.p.y(), pz[i] = x.p.z(), nx[i] = x.n.x(), ny[i] = x.n.y(), nz[i] = x.n.z();
-    tol[i] = eps * std::max(x.p.z() * x.p.z(), 0.5f), in_centre[i] = x.central;
-  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, seeds.size(), 4),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t h = r.begin(); h < r.end(); ++h) {
                         const Sample& s = samples[std::size_t(seeds[h])];
-                        const float a = s.n.x(), b = s.n.y(), c = s.n.z(), d = -s.n.dot(s.p);
-                        std::uint32_t all = 0, central = 0;
-                        for (std::size_t i = 0; i < S; ++i) {
-                          const bool in = std::abs(a * px[i] + b * py[i] + c * pz[i] + d) <= tol[i] &&
-                                          std::abs(a * nx[i] + b * ny[i] + c * nz[i]) >= cdev;
-                          all += in;
-                          central += in & (in_centre[i] != 0);
+                        const Eigen::Vector3f n = s.n;
+                        const float d = -n.dot(s.p);
+                        std::size_t all = 0, central = 0;
+                        for (const Sample& x : samples) {
+                          const float z = x.p.z();
+                          if (std::abs(n.dot(x.p) + d) > eps * std::max(z * z, 0.5f)) continue;
+                          if (std::abs(n.dot(x.n)) < cdev) continue;
+                          ++all;
+                          central += x.central;
                         }
                         support[h] = all;
                         score[h] = double(all) + 3.0 * double(central);
@@ -474,13 +394,16 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     throw InputError("support plane: the plane's region has " + std::to_string(largest) +
                      " points, fewer than min_inliers = " + std::to_string(o.min_inliers));
   }
-  // the chosen plane (refitted to its region on the half-resolution grid) refitted at full
-  // resolution with a tighter tolerance
-  Eigen::Vector3d n = chosen->n, centroid;
-  double d = chosen->d;
+  // the chosen plane refitted at full resolution from its seed, then with a tighter tolerance
+  const Sample& seed = samples[std::size_t(seeds[chosen->seed])];
+  Eigen::Vector3d n = seed.n.cast<double>().normalized(), centroid;
+  double d = -n.dot(seed.p.cast<double>()), rms = 0;
   std::size_t count = 0;
-  const cv::Mat region = inlier_region(cloud, normals, n, d, 0.75 * o.epsilon, cos_dev);
-  const double rms = fit_plane(cloud, region, n, d, centroid, count);
+  cv::Mat region;
+  for (int round = 0; round < 2; ++round) {
+    region = inlier_region(cloud, normals, n, d, round == 0 ? o.epsilon : 0.75 * o.epsilon, cos_dev);
+    rms = fit_plane(cloud, region, n, d, centroid, count);
+  }
   if (count < std::size_t(o.min_inliers))
     throw InputError("support plane: the plane's region has " + std::to_string(count) +
                      " points, fewer than min_inliers = " + std::to_string(o.min_inliers));

@@ -78,17 +78,17 @@ int main(int argc, char** argv) {
   std::vector<Input> inputs;
   auto finish = [](Input& in) {
     in.normals = extension::estimate_normals(in.cloud);
-    in.pcl_cloud.reset(new pcl::PointCloud<pcl::PointXYZ>);
-    for (std::size_t i = 0; i < in.cloud.pixels(); ++i) {
-      const float* p = in.cloud.data() + 3 * i;
-      if (std::isfinite(p[2])) in.pcl_cloud->push_back(pcl::PointXYZ(p[0], p[1], p[2]));
-    }
+    // the measured points (SACSegmentation) and the organized cloud, NaN where none (OMPS)
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    in.organized.reset(new pcl::PointCloud<pcl::PointXYZ>(in.cloud.cols(), in.cloud.rows()));
+    in.pcl_cloud.reset(new pcl::PointCloud<pcl::PointXYZ>);
+    in.organized.reset(
+        new pcl::PointCloud<pcl::PointXYZ>(in.cloud.cols(), in.cloud.rows(), pcl::PointXYZ(nan, nan, nan)));
     in.organized->is_dense = false;
     for (std::size_t i = 0; i < in.cloud.pixels(); ++i) {
       const float* p = in.cloud.data() + 3 * i;
-      in.organized->points[i] = std::isfinite(p[2]) ? pcl::PointXYZ(p[0], p[1], p[2]) : pcl::PointXYZ(nan, nan, nan);
+      if (!std::isfinite(p[2])) continue;
+      in.pcl_cloud->push_back(pcl::PointXYZ(p[0], p[1], p[2]));
+      in.organized->points[i] = pcl::PointXYZ(p[0], p[1], p[2]);
     }
     pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
     ne.setNormalEstimationMethod(ne.AVERAGE_3D_GRADIENT);

@@ -140,6 +140,18 @@ void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<S
 std::vector<std::vector<int>> grow_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r,
                   const ColorImage* color);
 
+/// An upright tapered body that may carry a handle (an outer cone standing on `support`, tapering
+/// by at most a mug's), as the cylinder of its widest radius: the handle search looks next
+/// to it (features/upright.cpp). None for any other segment.
+std::optional<Segment> upright_cone_as_cylinder(const Eigen::Vector4d& support, const Segment& s);
+
+/// An upright cone found to carry a handle refitted as the upright cylinder of its pixels (the
+/// axis held): wavy stereo depth and a handle's roots lean a mug's wall into a false taper
+/// (features/upright.cpp). False, and s unchanged, when the circle's radius leaves [min_r, max_r]
+/// or the pixels still fit a cone clearly better (upright_cone's test).
+bool hold_as_cylinder(const Pixels& f, const Eigen::Vector4d& support, Segment& s, double min_r, double max_r,
+                      const ColorImage* color);
+
 /// A handle seen in the colour image beside `body`'s silhouette, where the depth has little of it
 /// (a thin tube beyond a metre: stereo depth loses or fattens it): the pixels of the half-planes
 /// through the axis at the body's two limbs, out to a handle's reach, that have the body's colour

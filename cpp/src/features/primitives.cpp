@@ -612,15 +612,20 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
     };
     for (std::size_t k = 0; k < n && int(out.size()) < o.max_primitives; ++k) {
       const shapes::Cylinder* body = outer_cylinder(k);
+      // an upright tapered body is searched as the cylinder of its widest radius (a tapered
+      // mug; or a mug's wall that stereo noise and the handle's roots lean into a taper)
+      const std::optional<Segment> tapered = body ? std::nullopt : detail::upright_cone_as_cylinder(o.support, out[k]);
+      if (tapered) body = &tapered->as<shapes::Cylinder>();
+      const Segment& body_segment = tapered ? *tapered : out[k];
       if (!body || body->radius < h.body_min_radius || body->radius > h.body_max_radius) continue;
-      const SearchRegion region = region_near(out[k], h.region_margin);
+      const SearchRegion region = region_near(body_segment, h.region_margin);
       std::vector<std::size_t> offered;
       for (std::size_t j = 0; j < n; ++j) {
         if (j == k || dropped[j]) continue;
         const shapes::Cylinder* small = outer_cylinder(j);
         const bool small_side = small && small->radius < h.small_cylinder_ratio * body->radius &&
                                 (small->point - region.ball_center).norm() < region.ball_radius;
-        if (small_side || piece_of_handle(f, out[k], out[j], h)) {
+        if (small_side || piece_of_handle(f, body_segment, out[j], h)) {
           offered.push_back(j);
           for (int i : out[j].pixels) f.free[i] = 1;
         }
@@ -637,7 +642,7 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
                                  }),
                   found.end());
       if (found.empty() && h.from_colour)
-        if (auto t = detail::colour_handle(f, out[k], color)) found.push_back(std::move(*t));
+        if (auto t = detail::colour_handle(f, body_segment, color)) found.push_back(std::move(*t));
       for (std::size_t j : offered) {
         std::size_t shared = 0;
         for (const auto& t : found)
@@ -655,6 +660,8 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
                             std::back_inserter(pix));
         if (pix.size() < out[k].pixels.size()) detail::describe(f, out[k], std::move(pix), color);
       }
+      // a body with a handle is a mug's: a tapered one is held as its upright cylinder
+      if (tapered && !found.empty()) detail::hold_as_cylinder(f, o.support, out[k], o.min_radius, o.max_radius, color);
       for (auto& t : found) {
         for (int i : t.pixels) f.free[i] = 0;
         out.push_back(std::move(t));

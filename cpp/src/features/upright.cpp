@@ -72,6 +72,9 @@ constexpr double kMaxUprightRadius = 0.15;
 /// A body stands on the support: the lowest of its points (the kFootQuantile-th of their heights)
 /// is at most kMaxFoot above it, metres (a chair's column stands on its base, above the floor).
 constexpr double kMaxFoot = 0.04, kFootQuantile = 0.05;
+/// The most an upright cone may taper and still be searched for a handle, radians (tapered mugs
+/// take up to ~10 degrees; stereo noise and a handle's roots give cylinders 3-8).
+constexpr double kMaxHandledTaper = 12.0 * M_PI / 180;
 
 struct Plane2 {
   Eigen::Vector3d up, e1, e2;
@@ -392,9 +395,11 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
     // refine: the circle refitted to the component's points (unfiltered), the axis held
     Segment s = cands[best].s;
     const int seed = cands[best].seed;
-    std::vector<int> pix;
+    std::vector<int> pix, component;  // (a failed candidate's first component is seeded no more:
+                                      // the next rounds would draw it again)
     for (int k = 0; k < kRefits; ++k) {
       pix = g.component(s, seed, 1);
+      if (k == 0) component = pix;
       if (pix.size() < 6) break;
       std::vector<Eigen::Vector2d> q;
       q.reserve(pix.size());
@@ -460,6 +465,7 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
     if (overlaps || int(pix.size()) < min_support || double(pix.size()) < kReplace * double(replaced)) {
       seedable[std::size_t(seed)] = 0;
       for (int i : pix) seedable[std::size_t(i)] = 0;
+      for (int i : component) seedable[std::size_t(i)] = 0;
       ++failed;
       continue;
     }
@@ -484,6 +490,49 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
   for (std::size_t k = 0; k < out.size(); ++k)
     if (!dropped[k]) kept.push_back(std::move(out[k]));
   out = std::move(kept);
+}
+
+std::optional<Segment> upright_cone_as_cylinder(const Eigen::Vector4d& support, const Segment& s) {
+  const auto* k = s.get_if<shapes::Cone>();
+  const Eigen::Vector3d up = support.head<3>();
+  if (!k || s.inward || !(up.norm() > 0.5) || k->angle > kMaxHandledTaper ||
+      std::abs(k->axis.normalized().dot(up.normalized())) < kHoldCos)
+    return std::nullopt;
+  // the widest radius: the whole wall lies within it, so none of it is taken for a handle
+  shapes::Cylinder cyl = k->simplified();
+  cyl.radius = std::max(k->radius_at(0.5 * k->height), k->radius_at(-0.5 * k->height));
+  Segment c = s;
+  c.shape = Geometry(cyl);
+  return c;
+}
+
+bool hold_as_cylinder(const Pixels& f, const Eigen::Vector4d& support, Segment& s, double min_r, double max_r,
+                      const ColorImage* color) {
+  const auto* k = s.get_if<shapes::Cone>();
+  const Eigen::Vector3d up = support.head<3>();
+  if (!k || s.pixels.size() < 20 || !(up.norm() > 0.5)) return false;
+  const Plane2 pl(up);
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<Eigen::Vector2d> q;
+  pts.reserve(s.pixels.size()), q.reserve(s.pixels.size());
+  double along = 0, zsum = 0;
+  for (int i : s.pixels) {
+    pts.push_back(f.raw(i));
+    q.push_back(pl.of(pts.back())), along += pl.up.dot(pts.back()), zsum += pts.back().z();
+  }
+  const double n = double(pts.size());
+  Eigen::Vector2d c = pl.of(k->point);
+  double r = k->radius;
+  const double huber = kHuber * f.eps(zsum / n);
+  refit_circle(q, huber, c, r);
+  if (!(r >= min_r && r <= max_r)) return false;
+  // still clearly a cone without the handle's pixels: a tapered body (a cup beside something
+  // taken for a handle) stays one
+  if (upright_cone(pl, pts, huber, c, r)) return false;
+  s.shape = Geometry(upright_cylinder(pl, c, r, along / n));
+  describe(f, s, std::move(s.pixels), color);
+  set_residual(s, pts);
+  return true;
 }
 
 }  // namespace mereo::features::detail

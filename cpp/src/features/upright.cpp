@@ -212,6 +212,24 @@ double huber_cost(const Segment& s, const std::vector<Eigen::Vector3d>& pts, dou
   return sum;
 }
 
+/// A body's points (unfiltered) for a circle refit with the axis held: their projections on the
+/// support plane, their mean height along its normal and the Huber width at their mean depth.
+struct HeldPoints {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<Eigen::Vector2d> q;
+  double height = 0, huber = 0;
+  HeldPoints(const Pixels& f, const Plane2& pl, const std::vector<int>& pix) {
+    pts.reserve(pix.size()), q.reserve(pix.size());
+    double along = 0, zsum = 0;
+    for (int i : pix) {
+      pts.push_back(f.raw(i));
+      q.push_back(pl.of(pts.back())), along += pl.up.dot(pts.back()), zsum += pts.back().z();
+    }
+    const double n = double(pts.size());
+    height = along / n, huber = kHuber * f.eps(zsum / n);
+  }
+};
+
 }  // namespace
 
 void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r) {
@@ -223,23 +241,17 @@ void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<S
     if (!axis || s.inward || !(s.is<shapes::Cylinder>() || s.is<shapes::Cone>()) || s.pixels.size() < 20) continue;
     const double c = std::abs(axis->normalized().dot(pl.up));
     if (c < kHoldCos || (s.is<shapes::Cylinder>() && c > kHeldCos)) continue;
-    std::vector<Eigen::Vector3d> pts;
-    std::vector<Eigen::Vector2d> q;
-    pts.reserve(s.pixels.size()), q.reserve(s.pixels.size());
-    double along = 0, zsum = 0;
-    for (int i : s.pixels) {
-      pts.push_back(f.raw(i));
-      q.push_back(pl.of(pts.back())), along += pl.up.dot(pts.back()), zsum += pts.back().z();
-    }
-    const double n = double(pts.size()), huber = kHuber * f.eps(zsum / n);
+    const HeldPoints h(f, pl, s.pixels);
+    const auto& pts = h.pts;
+    const double huber = h.huber;
     // the circle where the free fit's axis meets the points' mean height
     const Eigen::Vector3d o = s.origin(), a = axis->normalized();
-    const double t = (along / n - pl.up.dot(o)) / a.dot(pl.up);
+    const double t = (h.height - pl.up.dot(o)) / a.dot(pl.up);
     Eigen::Vector2d centre = pl.of(o + t * a);
     double r = s.is<shapes::Cylinder>() ? s.as<shapes::Cylinder>().radius : s.as<shapes::Cone>().radius_at(t);
-    refit_circle(q, huber, centre, r);
+    refit_circle(h.q, huber, centre, r);
     if (!(r >= min_r && r <= max_r)) continue;
-    Segment held{Geometry(upright_cylinder(pl, centre, r, along / n))};
+    Segment held{Geometry(upright_cylinder(pl, centre, r, h.height))};
     if (auto cone = upright_cone(pl, pts, huber, centre, r); cone && cone->radius >= min_r && cone->radius <= max_r)
       held.shape = Geometry(*cone);
     // it may fit a little worse: the noise leaned the free fit (a tapered cup found bottom-up as
@@ -287,20 +299,14 @@ std::vector<std::vector<int>> grow_upright(Pixels& f, const Eigen::Vector4d& sup
       }
     }
     if (double(pix.size()) < kGrowth * double(s.pixels.size())) continue;
-    std::vector<Eigen::Vector3d> pts;
-    pts.reserve(pix.size());
-    for (int i : pix) pts.push_back(g.raw(i));
+    const HeldPoints h(g, pl, pix);
+    const auto& pts = h.pts;
     if (const auto* cyl = s.get_if<shapes::Cylinder>()) {
       // the circle refitted to all of them (the axis held)
-      std::vector<Eigen::Vector2d> q;
-      q.reserve(pts.size());
-      double along = 0, zsum = 0;
-      for (const auto& x : pts) q.push_back(pl.of(x)), along += pl.up.dot(x), zsum += x.z();
-      const double n = double(pts.size());
       Eigen::Vector2d c = pl.of(cyl->point);
       double r = cyl->radius;
-      refit_circle(q, kHuber * g.eps(zsum / n), c, r);
-      if (r >= min_r && r <= max_r) s.shape = Geometry(upright_cylinder(pl, c, r, along / n));
+      refit_circle(h.q, h.huber, c, r);
+      if (r >= min_r && r <= max_r) s.shape = Geometry(upright_cylinder(pl, c, r, h.height));
     }
     std::vector<int> before = s.pixels;
     std::sort(before.begin(), before.end());
@@ -401,31 +407,22 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
       pix = g.component(s, seed, 1);
       if (k == 0) component = pix;
       if (pix.size() < 6) break;
-      std::vector<Eigen::Vector2d> q;
-      q.reserve(pix.size());
-      double along = 0, zsum = 0;
-      for (int i : pix) {
-        const Eigen::Vector3d x = g.raw(i);
-        q.push_back(pl.of(x)), along += pl.up.dot(x), zsum += x.z();
-      }
+      const HeldPoints h(g, pl, pix);
       auto& cyl = s.as<shapes::Cylinder>();
       Eigen::Vector2d c = pl.of(cyl.point);
       double r = cyl.radius;
-      refit_circle(q, kHuber * g.eps(zsum / double(pix.size())), c, r);
+      refit_circle(h.q, h.huber, c, r);
       if (!(r >= min_r && r <= max_r)) {
         pix.clear();
         break;
       }
-      cyl = upright_cylinder(pl, c, r, along / double(pix.size()));
+      cyl = upright_cylinder(pl, c, r, h.height);
     }
     if (!pix.empty()) {
       // a tapered cup: the cone, when it fits clearly better
-      std::vector<Eigen::Vector3d> pts;
-      pts.reserve(pix.size());
-      double zsum = 0;
-      for (int i : pix) pts.push_back(g.raw(i)), zsum += pts.back().z();
+      const HeldPoints h(g, pl, pix);
       const auto& cyl = s.as<shapes::Cylinder>();
-      if (auto cone = upright_cone(pl, pts, kHuber * g.eps(zsum / double(pix.size())), pl.of(cyl.point), cyl.radius);
+      if (auto cone = upright_cone(pl, h.pts, h.huber, pl.of(cyl.point), cyl.radius);
           cone && cone->radius >= min_r && cone->radius <= max_r)
         s = Segment{Geometry(*cone)};
       pix = g.component(s, seed, 1);
@@ -512,26 +509,17 @@ bool hold_as_cylinder(const Pixels& f, const Eigen::Vector4d& support, Segment& 
   const Eigen::Vector3d up = support.head<3>();
   if (!k || s.pixels.size() < 20 || !(up.norm() > 0.5)) return false;
   const Plane2 pl(up);
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<Eigen::Vector2d> q;
-  pts.reserve(s.pixels.size()), q.reserve(s.pixels.size());
-  double along = 0, zsum = 0;
-  for (int i : s.pixels) {
-    pts.push_back(f.raw(i));
-    q.push_back(pl.of(pts.back())), along += pl.up.dot(pts.back()), zsum += pts.back().z();
-  }
-  const double n = double(pts.size());
+  const HeldPoints h(f, pl, s.pixels);
   Eigen::Vector2d c = pl.of(k->point);
   double r = k->radius;
-  const double huber = kHuber * f.eps(zsum / n);
-  refit_circle(q, huber, c, r);
+  refit_circle(h.q, h.huber, c, r);
   if (!(r >= min_r && r <= max_r)) return false;
   // still clearly a cone without the handle's pixels: a tapered body (a cup beside something
   // taken for a handle) stays one
-  if (upright_cone(pl, pts, huber, c, r)) return false;
-  s.shape = Geometry(upright_cylinder(pl, c, r, along / n));
+  if (upright_cone(pl, h.pts, h.huber, c, r)) return false;
+  s.shape = Geometry(upright_cylinder(pl, c, r, h.height));
   describe(f, s, std::move(s.pixels), color);
-  set_residual(s, pts);
+  set_residual(s, h.pts);
   return true;
 }
 

@@ -343,6 +343,9 @@ constexpr double kMinFill = 0.15, kMaxFill = 0.7;  ///< of its box: a loop, not 
 constexpr double kMaxBackgroundMatch = 0.3;  ///< the background beyond may look like the body this much
 constexpr int kMinColourPixels = 40;
 constexpr double kTube = 0.005;              ///< the torus's tube radius (a silhouette does not tell it)
+constexpr double kTurnStep = M_PI / 12;      ///< the handle's plane turned about the axis in these steps
+constexpr double kTurnedDepth = 0.3;         ///< a turned handle's pixels with depth, at least this share
+constexpr double kMinStandoff = 0.015;       ///< where that many have depth: their median distance off the wall
 
 /// How unlike two colours (RGB, 0-1) are, little moved by shading: their chromaticities (each
 /// channel's share of the sum) apart, plus a quarter of their brightness apart.
@@ -353,7 +356,7 @@ double colour_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
 
 }  // namespace
 
-std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const ColorImage* color) {
+std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const ColorImage* color, double max_turn_deg) {
   if (!color || color->empty() || body.pixels.size() < 20 || !body.is<Cylinder>()) return std::nullopt;
   const Cylinder& cyl = body.as<Cylinder>();
   const int H = f.H, W = f.W;
@@ -385,14 +388,22 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     double t, rho;
     Eigen::Vector3d x;
   };
+  // towards the camera, across the axis: a handle turned by `turn` about the axis lies in the
+  // plane of w0 cos(turn) + v sin(turn); its pixels show only where they are beside the body's
+  // silhouette (farther from the axis sideways than the radius), not in front of it or behind it
+  Eigen::Vector3d v = a.cross(w0).normalized();
+  if (v.dot(c) > 0) v = -v;
   std::optional<Segment> best;
   std::size_t best_count = 0;
-  for (const double side : {1.0, -1.0}) {
-    const Eigen::Vector3d w = side * w0;
+  const int turns = int(std::floor(std::clamp(max_turn_deg, 0.0, 75.0) * M_PI / 180 / kTurnStep + 1e-9));
+  for (int k = 0; k < 2 * (2 * turns + 1); ++k) {
+    const double side = k % 2 ? -1.0 : 1.0, turn = kTurnStep * (k / 2 - turns);
+    const Eigen::Vector3d w = side * std::cos(turn) * w0 + std::sin(turn) * v;
     std::unordered_map<int, Zone> zone;
     std::vector<int> background;
     for (double t = -half + 0.05 * cyl.height; t <= half - 0.03 * cyl.height; t += step)
       for (double rho = r + step; rho <= r + kColourReach + kBackgroundWidth; rho += step) {
+        if (rho * std::cos(turn) < r + step) continue;  // in front of the body or behind it
         const Eigen::Vector3d x = c + a * t + w * rho;
         const int i = pixel_of(x);
         if (i < 0) continue;
@@ -426,7 +437,7 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     std::vector<int> stack, comp;
     std::unordered_map<int, bool> seen;
     for (const auto& [i, z] : zone)
-      if (handle[i] && z.rho <= r + 3 * step + 0.004) stack.push_back(i), seen[i] = true;
+      if (handle[i] && z.rho * std::cos(turn) <= r + 3 * step + 0.004) stack.push_back(i), seen[i] = true;
     while (!stack.empty()) {
       const int i = stack.back();
       stack.pop_back();
@@ -442,6 +453,16 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
         }
     }
     if (int(comp.size()) < kMinColourPixels) continue;
+    // where its pixels have depth, they stand off the wall (not the body's own surface beyond a
+    // fit that is too narrow: a cone's wide rim, a lying can); a turned plane is told by the depth
+    std::vector<double> standoff;
+    for (int i : comp)
+      if (const Eigen::Vector3d x = f.p(i); x.z() > 0) standoff.push_back(((x - c) - a * (x - c).dot(a)).norm() - r);
+    if (turn != 0 && double(standoff.size()) < kTurnedDepth * double(comp.size())) continue;
+    if (double(standoff.size()) >= kTurnedDepth * double(comp.size())) {
+      std::nth_element(standoff.begin(), standoff.begin() + standoff.size() / 2, standoff.end());
+      if (standoff[standoff.size() / 2] < kMinStandoff) continue;
+    }
     double tmin = INFINITY, tmax = -INFINITY, rmax = 0;
     for (int i : comp) {
       const Zone& z = zone.at(i);

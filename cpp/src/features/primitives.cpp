@@ -642,7 +642,7 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
                                  }),
                   found.end());
       if (found.empty() && h.from_colour)
-        if (auto t = detail::colour_handle(f, body_segment, color)) found.push_back(std::move(*t));
+        if (auto t = detail::colour_handle(f, body_segment, color, h.colour_max_turn_deg)) found.push_back(std::move(*t));
       for (std::size_t j : offered) {
         std::size_t shared = 0;
         for (const auto& t : found)

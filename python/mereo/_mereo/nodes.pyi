@@ -40,6 +40,7 @@ def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
         handle_body_min_radius (float, default 0.02, 0..1): ... whose radius is at least this, metres
         handle_body_max_radius (float, default 0.08, 0..1): ... and at most this
         handles_from_colour (bool, default true): where the depth shows no handle, look for its silhouette beside the body in the colour image
+        colour_handle_turn_deg (float, default 60, 0..75): ... in planes turned from the limbs' about the body's axis by up to this (0: the limbs' planes only)
         max_handle_turn_deg (float, default 25, 0..90): a ring that fits better turned more than this from its body's axis is not a handle (90: no check)
     """
 def estimate_normals(**kwargs) -> mereo._mereo.NodeTemplate:
@@ -113,9 +114,12 @@ def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
         min_posterior (float, default 0.5, 0..1): nor below this posterior
         list_score (float, default 0.3, 0..1): alternatives at or above this are listed
         min_coverage (float, default 0.5, 0..1): an object's parts' least share of its region
+        min_surface_coverage (float, default 0.7, 0..1): ... or with the pixels near its parts' surfaces, this share
         min_free_form_coverage (float, default 0.9, 0..1): the least share of an object made of free-form regions
         depth_jump (float, default 0.02, 0.001..1): a depth step (times the depth) that separates regions
         reach (float, default 0.02, 0..1): a region's reach beyond its object's extent, metres
+        surface_tolerance (float, default 0.006, 0..1): a region's pixels this near an object's part (metres at 1 m) are explained by it
+        surface_normal_deg (float, default 45, 0..90): ... with normals within this of the part's (degrees)
         min_unknown_pixels (int, default 800, 0..1e+07): least pixels of an unknown object (0: none)
         max_grazing_deg (float, default 75, 0..90): with normals: pixels seen more obliquely join no unknown region
     """

@@ -26,7 +26,9 @@
 // Where the depth shows no handle, its silhouette is looked for in the colour image (`from_colour`,
 // detail::colour_handle in features/pixels.hpp): beside the body's limbs, in the body's colour and
 // not the background's, shaped as a handle (reach, height span, a loop that does not fill its box);
-// a torus in that plane, attached to the wall, stands for it.
+// a torus in that plane, attached to the wall, stands for it. The plane is the limb's, or turned
+// about the axis by up to 60 degrees either way (a handle seen obliquely), where then part of the
+// silhouette has depth near that plane.
 #pragma once
 
 #include <cmath>
@@ -78,6 +80,9 @@ struct HandleOptions {
   /// Where the depth shows no handle next to a body, look for its silhouette beside the body in
   /// the colour image (detail::colour_handle: thin tubes beyond a metre lose their depth).
   bool from_colour = true;
+  /// ... in the limbs' planes, and in those turned about the axis by up to this (a handle seen
+  /// obliquely); degrees, 0 = the limbs' planes only.
+  double colour_max_turn_deg = 60.0;
 
   /// A handle's tube and ring radii are within the ranges (the tracker's refits).
   bool plausible(const Segment& t) const;
@@ -105,6 +110,8 @@ inline const Fields<HandleOptions>& HandleOptions::fields() {
       field("handle_body_max_radius", &O::body_max_radius, 0, 1, "... and at most this"),
       field("handles_from_colour", &O::from_colour,
             "where the depth shows no handle, look for its silhouette beside the body in the colour image"),
+      field("colour_handle_turn_deg", &O::colour_max_turn_deg, 0, 75,
+            "... in planes turned from the limbs' about the body's axis by up to this (0: the limbs' planes only)"),
       field("max_handle_turn_deg", &O::max_turn_deg, 0, 90,
             "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"),
   };

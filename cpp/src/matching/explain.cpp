@@ -140,11 +140,12 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
         if (owner[std::size_t(j)] == int(a)) continue;
         const Eigen::Vector3d x = g.p(j);
         const double tol = o.surface_tolerance * std::clamp(x.z() * x.z(), 1.0, 2.0);
-        for (const auto& part : objects[a].parts)
-          if (near_part(segments.at(std::size_t(part.second)), x, tol, normals ? normals->ptr(j / W, j % W) : nullptr, min_cos)) {
-            ++explained;
-            break;
-          }
+        const float* normal = normals ? normals->ptr(j / W, j % W) : nullptr;
+        const bool near = std::any_of(objects[a].parts.begin(), objects[a].parts.end(), [&](const auto& part) {
+          const Segment& s = segments.at(std::size_t(part.second));
+          return near_part(s, x, std::max(tol, o.surface_residual_factor * s.residual), normal, min_cos);
+        });
+        explained += near;
       }
     // its parts' pixels must explain min_coverage of the region, or with those near them
     // min_surface_coverage (noisy depth: the tolerant share, the stricter test)

@@ -23,7 +23,8 @@ namespace mereo::matching {
 /// place of an earlier one or do not explain their region (accepted = false, `rejected` says why,
 /// `coverage` set on every accepted one), then appends the unexplained
 /// regions of `plane.roi` as objects of model "unknown" (not accepted, with their `region`).
-/// The thresholds are InterpretOptions' min_coverage (min_surface_coverage), depth_jump, reach and
+/// The thresholds are InterpretOptions' min_coverage (min_surface_coverage, with the pixels near a
+/// part: surface_tolerance, surface_residual_factor, surface_normal_deg), depth_jump, reach and
 /// min_unknown_pixels; with `normals`, the silhouettes (max_grazing_deg) separate unknown regions
 /// that touch.
 /// `cloud` is the frame's organized cloud; pixel indices are row-major. Deterministic.

@@ -61,6 +61,9 @@ struct InterpretOptions {
   /// extent), spherical or toroidal parts is near it (min_surface_coverage). Metres at 1 m,
   /// growing with depth squared up to twice that.
   double surface_tolerance = 0.006;
+  /// ... or this times the part's own fit residual (its inliers' RMS), where that is larger: the
+  /// noise the part was fitted in (stereo depth beyond a metre is noisier than the tolerance)
+  double surface_residual_factor = 3.0;
   /// ... and, where the frame has normals, its normal within this of the part's (degrees): the
   /// flat face of a rounded box beside a cylinder fitted to its rounded edge is none.
   double surface_normal_deg = 45;
@@ -88,6 +91,8 @@ inline const Fields<InterpretOptions>& InterpretOptions::fields() {
       field("reach", &O::reach, 0, 1, "a region's reach beyond its object's extent, metres"),
       field("surface_tolerance", &O::surface_tolerance, 0, 1,
             "a region's pixels this near an object's part (metres at 1 m) are explained by it"),
+      field("surface_residual_factor", &O::surface_residual_factor, 0, 100,
+            "... or this times the part's fit residual, where that is larger"),
       field("surface_normal_deg", &O::surface_normal_deg, 0, 90,
             "... with normals within this of the part's (degrees)"),
       field("min_unknown_pixels", &O::min_unknown_pixels, 0, 1e7, "least pixels of an unknown object (0: none)"),

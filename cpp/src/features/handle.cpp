@@ -457,9 +457,10 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     // fit that is too narrow: a cone's wide rim, a lying can); a turned plane is told by the depth
     std::vector<double> standoff;
     for (int i : comp)
-      if (const Eigen::Vector3d x = f.p(i); x.z() > 0) standoff.push_back(((x - c) - a * (x - c).dot(a)).norm() - r);
-    if (turn != 0 && double(standoff.size()) < kTurnedDepth * double(comp.size())) continue;
-    if (double(standoff.size()) >= kTurnedDepth * double(comp.size())) {
+      if (const Eigen::Vector3d x = f.p(i); x.z() > 0) standoff.push_back(cyl.signed_distance(x));
+    const bool with_depth = double(standoff.size()) >= kTurnedDepth * double(comp.size());
+    if (!with_depth && turn != 0) continue;
+    if (with_depth) {
       std::nth_element(standoff.begin(), standoff.begin() + standoff.size() / 2, standoff.end());
       if (standoff[standoff.size() / 2] < kMinStandoff) continue;
     }

@@ -156,13 +156,13 @@ bool hold_as_cylinder(const Pixels& f, const Eigen::Vector4d& support, Segment& 
 /// (a thin tube beyond a metre: stereo depth loses or fattens it): the pixels of a half-plane
 /// through the axis, out to a handle's reach, that have the body's colour and not the background's,
 /// and depth near that plane or none, connected to the silhouette, and shaped as a handle is
-/// (reach, height span, a loop that does not fill its box); where most have depth, it stands off
-/// the wall. The half-planes are those of the two limbs, and those turned from them about the axis
+/// (reach, height span, a loop that does not fill its box); where 30% or more have depth, their
+/// median stands off the wall. The half-planes are those of the two limbs, and those turned from them about the axis
 /// by up to `max_turn_deg` (in 15 degree steps; a handle seen obliquely), which need some of the
 /// pixels to have depth. Returns a torus in the plane of the largest such silhouette, attached to
 /// the wall, with its pixels; nothing without a colour image.
 std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const ColorImage* color,
-                                     double max_turn_deg = 60.0);
+                                     double max_turn_deg);
 
 /// The model-driven handle search next to cylinder `body` over the pixels `region` (free ones
 /// count), with the options' HandleOptions (features/handle.hpp): at most `max_count` handles, each

@@ -55,8 +55,10 @@ constexpr double kGrowth = 1.1, kGrowNormalDeg = 45.0;
 /// grow_upright: how far below the heights the segment spanned it may grow, metres (not above:
 /// a lid's fattened edge would lift the body's end over the lid, which would then look open).
 constexpr double kGrowReach = 0.01;
-/// An upright cylinder replaces earlier segments when it holds this many times their pixels.
-constexpr double kReplace = 1.3;
+/// An upright cylinder replaces the leaning segments whose pixels it takes most of when it holds
+/// at least this many times their pixels together: a leaning cone hugging the visible side of a
+/// partly hidden body holds about as many as the upright body does (stereo seed 5010).
+constexpr double kReplace = 1.0;
 /// The search stops after this many rounds in a row whose best candidate did not hold.
 constexpr int kMaxFailed = 6;
 /// Segments found bottom-up whose axis is within acos(kUprightCos) of up (10 degrees) are upright
@@ -427,9 +429,9 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
         s = Segment{Geometry(*cone)};
       pix = g.component(s, seed, 1);
     }
-    // it replaces the earlier segments whose pixels it takes most of, when it holds clearly more
-    // than they did together (a wavy body split into a steep cone and a plane); a true body or a
-    // tapered cup found bottom-up holds about as many as the upright cylinder
+    // it replaces the earlier segments whose pixels it takes most of, when it holds at least as
+    // many as they did together (a wavy body split into a steep cone and a plane); bodies found
+    // upright bottom-up are not among them
     std::vector<std::size_t> overlap(out.size(), 0);
     for (int i : pix)
       if (owner[std::size_t(i)] >= 0) ++overlap[std::size_t(owner[std::size_t(i)])];

@@ -452,10 +452,11 @@ std::vector<Segment> find_in(const Pixels& f, PrimitiveClass cls, const SearchRe
 /// axis: an open vessel's rim, the top of its inner wall and, with stereo depth, the front rim's
 /// fattened edge lie at that band's height too, but near the radius (stereo seed 5010: an open
 /// mug's end read 285 lid and 112 inside pixels, 3 and 112 so).
-/// On the renderer (seeds 0-19, both depth models) open mugs show 0.52-0.94 of their end open,
-/// jars, cans and bottles 0 but for three of 48 on the stereo model (0.19-0.35: its fattened
-/// edges lift the visible extent above the lid); a level taken from the points instead (their
-/// upper decile) made bottles open (the neck above the shoulder).
+/// On the renderer (seeds 20-39 and varied 7000-7019, both depth models) open mugs show at least
+/// 0.86 of their end open (0.52 when the lid band counted to the radius), jars, cans and bottles at
+/// most 0.3 but for about a tenth of them on the stereo model (its fattened edges lift the visible
+/// extent above the lid); a level taken from the points instead (their upper decile) made bottles
+/// open (the neck above the shoulder).
 void look_at_end(const Pixels& f, Segment& s) {
   constexpr double kBelow = 0.01, kAbove = 0.02, kDisc = 0.85, kMinCos = 0.1, kCore = 0.7;
   Eigen::Vector3d point, axis;

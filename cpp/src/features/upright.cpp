@@ -55,14 +55,15 @@ constexpr double kGrowth = 1.1, kGrowNormalDeg = 45.0;
 /// grow_upright: how far below the heights the segment spanned it may grow, metres (not above:
 /// a lid's fattened edge would lift the body's end over the lid, which would then look open).
 constexpr double kGrowReach = 0.01;
-/// An upright cylinder replaces the leaning segments whose pixels it takes most of when it holds
-/// at least this many times their pixels together: a leaning cone hugging the visible side of a
-/// partly hidden body holds about as many as the upright body does (stereo seed 5010).
+/// An upright cylinder replaces the segments it competes with (leaning ones, narrow strips) whose
+/// pixels it takes most of when it holds at least this many times their pixels together: a
+/// leaning cone hugging the visible side of a partly hidden body holds about as many as the
+/// upright body does (stereo seed 5010).
 constexpr double kReplace = 1.0;
 /// The search stops after this many rounds in a row whose best candidate did not hold.
 constexpr int kMaxFailed = 6;
 /// Segments found bottom-up whose axis is within acos(kUprightCos) of up (10 degrees) are upright
-/// bodies already: no seeds are drawn on them.
+/// bodies already: no seeds are drawn on them, unless they are narrow strips (narrow_strip).
 constexpr double kUprightCos = 0.985;
 /// Two bodies standing on the support cannot overlap: a circle that overlaps an upright body's by
 /// more than this (metres, the noise of two fits) is no body (a circle fitted to a mug's handle
@@ -348,7 +349,7 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
   local.normal_deviation_deg = std::max(f.o.normal_deviation_deg, kNormalDeviationDeg);
   Pixels g(f, local);
   // the segments found so far compete, but for the upright bodies (what this search would find
-  // again): their pixels are searched too
+  // again) that are no narrow strips: their pixels are searched too
   std::vector<int> owner(std::size_t(g.H) * g.W, -1);
   for (std::size_t k = 0; k < out.size(); ++k) {
     const auto axis = out[k].direction();
@@ -447,9 +448,8 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
         s = Segment{Geometry(*cone)};
       pix = g.component(s, seed, 1);
     }
-    // it replaces the earlier segments whose pixels it takes most of, when it holds at least as
-    // many as they did together (a wavy body split into a steep cone and a plane); bodies found
-    // upright bottom-up are not among them
+    // it replaces the competing segments whose pixels it takes most of, when it holds at least as
+    // many as they did together (a wavy body split into a steep cone and a plane)
     std::vector<std::size_t> overlap(out.size(), 0);
     for (int i : pix)
       if (owner[std::size_t(i)] >= 0) ++overlap[std::size_t(owner[std::size_t(i)])];

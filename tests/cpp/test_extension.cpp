@@ -252,6 +252,56 @@ TEST(DepthFilter, ReducesNoiseAndKeepsStepsSharp) {
   EXPECT_TRUE(std::isnan(signal::filter_depth(step)(5, 5)));
 }
 
+/// The bilateral filter of DepthFilterOptions written out per pixel, in double precision, with
+/// the exact Gaussian range weight: the reference for the vectorized filter.
+DepthImage brute_force_bilateral(const DepthImage& d, const signal::DepthFilterOptions& o) {
+  DepthImage out(d.rows(), d.cols(), kNaN);
+  for (int v = 0; v < d.rows(); ++v)
+    for (int u = 0; u < d.cols(); ++u) {
+      const double z = d(v, u);
+      if (!valid_depth(float(z))) continue;
+      const double sr = o.sigma_depth * z * z;
+      double sw = 0, sz = 0;
+      for (int vv = std::max(0, v - o.radius); vv <= std::min(d.rows() - 1, v + o.radius); ++vv)
+        for (int uu = std::max(0, u - o.radius); uu <= std::min(d.cols() - 1, u + o.radius); ++uu) {
+          const double q = d(vv, uu);
+          if (!valid_depth(float(q)) || std::abs(q - z) > o.depth_change_factor * z) continue;
+          const double w = std::exp(-((vv - v) * (vv - v) + (uu - u) * (uu - u)) / (2 * o.sigma_space * o.sigma_space)) *
+                           std::exp(-(q - z) * (q - z) / (2 * sr * sr));
+          sw += w, sz += w * q;
+        }
+      out(v, u) = float(sz / sw);
+    }
+  return out;
+}
+
+TEST(DepthFilter, MatchesTheBruteForceBilateralFilter) {
+  // both depth models, the default options and a wider, tighter window
+  synthetic::SceneOptions stereo;
+  stereo.depth_model = synthetic::DepthModel::Stereo;
+  signal::DepthFilterOptions wide;
+  wide.radius = 4, wide.sigma_space = 3, wide.sigma_depth = 0.002;
+  for (const auto& [scene, o] : {std::pair{synthetic::SceneOptions{}, signal::DepthFilterOptions{}},
+                                 std::pair{stereo, signal::DepthFilterOptions{}}, std::pair{stereo, wide}}) {
+    DepthImage depth = synthetic::render(211, scene).frame.depth;
+    depth(10, 10) = 0.f, depth(11, 10) = -1.f, depth(12, 10) = 5e3f;  // out of any sensor's range
+    const DepthImage fast = signal::filter_depth(depth, o), ref = brute_force_bilateral(depth, o);
+    double ss = 0, worst = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < depth.size(); ++i) {
+      ASSERT_EQ(std::isnan(fast.data()[i]), std::isnan(ref.data()[i])) << "pixel " << i;
+      if (std::isnan(ref.data()[i])) continue;
+      const double e = fast.data()[i] - ref.data()[i];
+      ss += e * e, worst = std::max(worst, std::abs(e)), ++n;
+    }
+    ASSERT_GT(n, 100000u);
+    std::printf("[ filter   ] %s, radius %d: against the brute force, RMS %.4f mm, worst %.3f mm\n",
+                scene.depth_model == synthetic::DepthModel::Stereo ? "stereo" : "kinect", o.radius, 1000 * std::sqrt(ss / double(n)), 1000 * worst);
+    EXPECT_LT(std::sqrt(ss / double(n)), 1e-4);
+    EXPECT_LT(worst, 1e-3);
+  }
+}
+
 TEST(SupportPlane, TheDeskWithObjectsInViewOverALargerFloorNotTheTopOfABox) {
   // a desk (0.6 x 0.5 m, 0.72 m high, two legs) in the middle of the view, a mug-sized block and a
   // flat box (0.2 x 0.15 m, 6 cm high: a higher plane, too small to be a support) on it; the floor

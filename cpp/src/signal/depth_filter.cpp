@@ -1,6 +1,7 @@
 // Edge-preserving depth filter (bilateral, depth-dependent range kernel).
 #include "mereo/signal/depth_filter.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -12,6 +13,38 @@
 
 namespace mereo::signal {
 
+namespace {
+
+// Built for AVX2 as well where the compiler can dispatch at run time (twice the lanes of the
+// baseline SSE2): the same arithmetic, so the same result to rounding.
+#if defined(__GNUC__) && defined(__x86_64__) && defined(__linux__)
+#define MEREO_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MEREO_VECTOR_CLONES
+#endif
+
+/// One window offset's contribution to n output pixels of a row: q holds their neighbours at the
+/// offset, z their own depth, w is the offset's spatial weight; accumulates the
+/// weights into sw and the weighted differences from the centre into sz. No branch nor table
+/// look-up in the loop, so that it vectorizes. The range weight exp(-x), x = dz^2 / (2 sigma_r^2),
+/// is (1 - x / 256)^256 (inv = 1 / (512 sigma_r^2)): within 0.8% of it for x <= 2, below 4e-4
+/// beyond x = 8.
+MEREO_VECTOR_CLONES void accumulate(const float* __restrict q, const float* __restrict z, const float* __restrict inv,
+                                    const float* __restrict jump, float w, int n, float* __restrict sw,
+                                    float* __restrict sz) {
+  for (int u = 0; u < n; ++u) {
+    const float dz = q[u] - z[u];
+    float e = std::max(0.f, 1.f - dz * dz * inv[u]);
+    e *= e, e *= e, e *= e, e *= e, e *= e, e *= e, e *= e, e *= e;
+    const bool near = std::abs(dz) <= jump[u];  // false for a NaN neighbour or centre
+    const float we = near ? w * e : 0.f;
+    sw[u] += we;
+    sz[u] += near ? we * dz : 0.f;
+  }
+}
+
+}  // namespace
+
 DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
   if (o.radius < 1 || o.radius > 10)
     throw InputError("filter_depth: radius must be in [1, 10], got " + std::to_string(o.radius));
@@ -20,43 +53,45 @@ DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
   const int H = depth.rows(), W = depth.cols(), r = o.radius;
   DepthImage out(H, W, kNaN);
   // spatial weights, one table
-  std::vector<float> ws(std::size_t(2 * r + 1) * (2 * r + 1));
+  const int side = 2 * r + 1;
+  std::vector<float> ws(std::size_t(side) * side);
   for (int dv = -r; dv <= r; ++dv)
     for (int du = -r; du <= r; ++du)
-      ws[std::size_t(dv + r) * (2 * r + 1) + (du + r)] =
-          float(std::exp(-(du * du + dv * dv) / (2 * o.sigma_space * o.sigma_space)));
+      ws[std::size_t(dv + r) * side + (du + r)] = float(std::exp(-(du * du + dv * dv) / (2 * o.sigma_space * o.sigma_space)));
   const float sd = float(o.sigma_depth), cut = float(o.depth_change_factor);
-  // range weights exp(-x), x = dz^2 / (2 sigma_r^2) in [0, 8), from a table of 512 steps (the
-  // weight beyond x = 8 is below 0.0004 and taken as 0)
-  constexpr int kSteps = 512;
-  constexpr float kMaxX = 8.f, kScale = kSteps / kMaxX;
-  std::vector<float> range_lut(kSteps + 1);
-  for (int i = 0; i <= kSteps; ++i) range_lut[i] = i == kSteps ? 0.f : float(std::exp(-(i + 0.5) / kScale));
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
+  // the depth with every invalid pixel NaN: a NaN neighbour or centre then fails the jump test
+  // below without a branch
+  DepthImage clean(H, W, kNaN);
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
-      const int v0 = std::max(0, v - r), v1 = std::min(H - 1, v + r);
+      const float* d = depth.ptr(v, 0);
+      float* c = clean.ptr(v, 0);
+      for (int u = 0; u < W; ++u) c[u] = valid_depth(d[u]) ? d[u] : kNaN;
+    }
+  });
+  // each output row accumulated one window offset at a time over the whole row (accumulate)
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
+    const std::size_t n = std::size_t(W);
+    std::vector<float> inv(n), jump(n), sw(n), sz(n);
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      const float* z = clean.ptr(v, 0);
       for (int u = 0; u < W; ++u) {
-        const float z = depth(v, u);
-        if (!valid_depth(z)) continue;  // missing or out of any sensor's range: stays NaN
-        const float sr = sd * z * z, inv = kScale * 0.5f / (sr * sr), t = cut * z;
-        const int u0 = std::max(0, u - r), u1 = std::min(W - 1, u + r);
-        float sw = 0.f, sz = 0.f;
-        for (int vv = v0; vv <= v1; ++vv) {
-          const float* row = depth.ptr(vv, 0);
-          const float* wrow = ws.data() + std::size_t(vv - v + r) * (2 * r + 1) + r;
-          for (int uu = u0; uu <= u1; ++uu) {
-            const float q = row[uu];
-            const float dz = q - z;
-            if (!valid_depth(q) || std::abs(dz) > t) continue;
-            const float x = dz * dz * inv;
-            const int bin = x < float(kSteps) ? int(x) : kSteps;  // NaN or beyond the table: weight 0
-            const float w = wrow[uu - u] * range_lut[bin];
-            sw += w;
-            sz += w * q;
-          }
-        }
-        out(v, u) = sz / sw;  // sw >= 1: the centre has weight 1
+        const float sr = sd * z[u] * z[u];
+        inv[u] = 1.f / (512.f * sr * sr), jump[u] = cut * z[u];
+        sw[u] = 0.f, sz[u] = 0.f;
       }
+      for (int vv = std::max(0, v - r); vv <= std::min(H - 1, v + r); ++vv) {
+        const float* row = clean.ptr(vv, 0);
+        for (int du = -r; du <= r; ++du) {
+          const int u0 = std::max(0, -du), u1 = std::min(W, W - du);
+          accumulate(row + u0 + du, z + u0, inv.data() + u0, jump.data() + u0, ws[std::size_t(vv - v + r) * side + (du + r)],
+                     u1 - u0, sw.data() + u0, sz.data() + u0);
+        }
+      }
+      float* o_row = out.ptr(v, 0);
+      // the weighted mean of the differences, added to the centre (sw >= 1: the centre has weight
+      // 1); a NaN centre stays NaN
+      for (int u = 0; u < W; ++u) o_row[u] = z[u] + sz[u] / sw[u];
     }
   });
   return out;

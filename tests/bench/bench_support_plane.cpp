@@ -39,6 +39,7 @@
 #include "mereo/signal/depth_filter.hpp"
 #include "mereo/synthetic/scene.hpp"
 #include "bench_util.hpp"
+#include "core/components.hpp"
 
 namespace fs = std::filesystem;
 using namespace mereo;
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
     inputs.push_back(std::move(in));
   }
 
-  Stat mereo_plane, pcl_plane, omps_plane, mereo_filter, cv_filter;
+  Stat mereo_plane, pcl_plane, omps_plane, mereo_filter, cv_filter, mereo_cc, cv_cc;
   for (const Input& in : inputs) {
     for (int rep = 0; rep < repeats; ++rep) {
       extension::SupportPlaneOptions o;
@@ -145,6 +146,20 @@ int main(int argc, char** argv) {
       const auto plane = extension::find_support_plane(in.cloud, in.normals, o);
       mereo_plane.ms.push_back(now_ms() - t0);
       if (rep == 0) mereo_plane.err.push_back(angle_deg(plane.normal, in.reference));
+
+      // the connected components of the plane's inlier mask: ours (on runs) and OpenCV's
+      const cv::Mat on_plane(plane.inliers.rows(), plane.inliers.cols(), CV_8U, const_cast<std::uint8_t*>(plane.inliers.data()));
+      t0 = now_ms();
+      const Components runs = connected_components(on_plane);
+      mereo_cc.ms.push_back(now_ms() - t0);
+      cv::Mat labels, stats, centroids;
+      t0 = now_ms();
+      const int cv_count = cv::connectedComponentsWithStats(on_plane, labels, stats, centroids, 4, CV_32S);
+      cv_cc.ms.push_back(now_ms() - t0);
+      if (rep == 0 && runs.count() != cv_count - 1) {
+        std::fprintf(stderr, "bench_support_plane: %s: %d components, OpenCV %d\n", in.name.c_str(), runs.count(), cv_count - 1);
+        return 1;
+      }
 
       pcl::SACSegmentation<pcl::PointXYZ> seg;
       seg.setOptimizeCoefficients(true);
@@ -240,6 +255,9 @@ int main(int argc, char** argv) {
               mean(omps_plane.err), maxv(omps_plane.err));
   std::printf("(speed-up over OrganizedMultiPlaneSegmentation: %.2fx)\n",
               median(omps_plane.ms) / median(mereo_plane.ms));
+  std::printf("\n%-34s %9s\n", "components of the inliers (4-conn.)", "ms");
+  std::printf("%-34s %9.2f\n", "mereo connected_components (runs)", median(mereo_cc.ms));
+  std::printf("%-34s %9.2f\n", "opencv connectedComponentsWithStats", median(cv_cc.ms));
   std::printf("\n%-34s %9s %14s\n", "depth filter (synthetic)", "ms", "RMS err mm");
   std::printf("%-34s %9.2f %14.2f\n", "mereo filter_depth", median(mereo_filter.ms), mean(mereo_filter.rms));
   std::printf("%-34s %9.2f %14.2f\n", "opencv bilateralFilter", median(cv_filter.ms), mean(cv_filter.rms));
@@ -249,10 +267,12 @@ int main(int argc, char** argv) {
               "\"plane_speedup_vs_pcl\": %.3f, "
               "\"omps_plane\": {\"median_ms\": %.3f, \"mean_error_deg\": %.4f, \"max_error_deg\": %.4f}, "
               "\"plane_speedup_vs_omps\": %.3f, "
-              "\"mereo_filter\": {\"median_ms\": %.3f, \"rms_mm\": %.3f}, \"opencv_bilateral\": {\"median_ms\": %.3f, \"rms_mm\": %.3f}}\n",
+              "\"mereo_filter\": {\"median_ms\": %.3f, \"rms_mm\": %.3f}, \"opencv_bilateral\": {\"median_ms\": %.3f, \"rms_mm\": %.3f}, "
+              "\"mereo_components_ms\": %.3f, \"opencv_components_ms\": %.3f}\n",
               quick ? "true" : "false", inputs.size(), median(mereo_plane.ms), mean(mereo_plane.err), maxv(mereo_plane.err),
               median(pcl_plane.ms), mean(pcl_plane.err), maxv(pcl_plane.err), median(pcl_plane.ms) / median(mereo_plane.ms),
               median(omps_plane.ms), mean(omps_plane.err), maxv(omps_plane.err), median(omps_plane.ms) / median(mereo_plane.ms),
-              median(mereo_filter.ms), mean(mereo_filter.rms), median(cv_filter.ms), mean(cv_filter.rms));
+              median(mereo_filter.ms), mean(mereo_filter.rms), median(cv_filter.ms), mean(cv_filter.rms), median(mereo_cc.ms),
+              median(cv_cc.ms));
   return 0;
 }

@@ -11,6 +11,8 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
+#include "core/components.hpp"
 
 #include "mereo/core/error.hpp"
 #include "mereo/extension/normals.hpp"
@@ -506,4 +508,65 @@ TEST(SupportPlane, ClearErrors) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("support plane"), std::string::npos);
   }
+}
+
+// Two labellings are the same partition: a one-to-one map between their labels (OpenCV's label 0
+// is the background, ours the absence of a run).
+static void expect_same_partition(const cv::Mat& mask, const std::string& what) {
+  const Components c = connected_components(mask);
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
+  ASSERT_EQ(c.count(), n - 1) << what;
+  std::vector<int> ours_of(std::size_t(n), -1), theirs_of(std::size_t(c.count()), -1);
+  cv::Mat covered(mask.size(), CV_8U, cv::Scalar(0));
+  for (std::size_t i = 0; i < c.row.size(); ++i)
+    for (int u = c.begin[i]; u < c.end[i]; ++u) {
+      const int theirs = labels.at<int>(c.row[i], u), ours = c.label[i];
+      ASSERT_GT(theirs, 0) << what << ": a run covers background at " << c.row[i] << ", " << u;
+      if (ours_of[std::size_t(theirs)] < 0) ours_of[std::size_t(theirs)] = ours;
+      if (theirs_of[std::size_t(ours)] < 0) theirs_of[std::size_t(ours)] = theirs;
+      ASSERT_EQ(ours_of[std::size_t(theirs)], ours) << what << ": OpenCV's component " << theirs << " split";
+      ASSERT_EQ(theirs_of[std::size_t(ours)], theirs) << what << ": our component " << ours << " merges two";
+      covered.at<std::uint8_t>(c.row[i], u) = 1;
+    }
+  for (int k = 1; k < n; ++k)
+    EXPECT_EQ(c.area[std::size_t(ours_of[std::size_t(k)])], std::size_t(stats.at<int>(k, cv::CC_STAT_AREA))) << what;
+  EXPECT_EQ(cv::countNonZero(covered), cv::countNonZero(mask)) << what;
+}
+
+TEST(Components, TheSamePartitionAsOpenCVsConnectedComponents) {
+  // random masks from sparse (single pixels, diagonal neighbours that 4-connectivity keeps apart)
+  // to dense (one region with holes), odd sizes, rows and columns of one pixel
+  std::mt19937 rng(5);
+  for (auto [rows, cols] : {std::pair{1, 1}, {1, 37}, {29, 1}, {61, 83}, {240, 320}})
+    for (int percent : {0, 5, 30, 50, 60, 90, 100}) {
+      cv::Mat mask(rows, cols, CV_8U);
+      for (int v = 0; v < rows; ++v)
+        for (int u = 0; u < cols; ++u) mask.at<std::uint8_t>(v, u) = int(rng() % 100) < percent ? 1 + rng() % 255 : 0;
+      expect_same_partition(mask, std::to_string(rows) + "x" + std::to_string(cols) + " at " +
+                                      std::to_string(percent) + "%");
+    }
+  // the masks the support plane labels: a rendered table's near-plane pixels (every pixel within
+  // 2 cm of the table, whatever its normal) and their complement
+  const auto sf = synthetic::render(300);
+  const Cloud cloud = extension::back_project(sf.frame);
+  const Eigen::Vector3d n = sf.truth.camera_pose.linear().transpose() * Eigen::Vector3d::UnitZ();
+  const double d = -n.dot(sf.truth.camera_pose.inverse().translation());
+  cv::Mat near(cloud.rows(), cloud.cols(), CV_8U, cv::Scalar(0));
+  for (int v = 0; v < cloud.rows(); ++v)
+    for (int u = 0; u < cloud.cols(); ++u)
+      if (valid_point(cloud.ptr(v, u)) && std::abs(n.dot(Eigen::Vector3d(cloud(v, u, 0), cloud(v, u, 1), cloud(v, u, 2))) + d) < 0.02)
+        near.at<std::uint8_t>(v, u) = 1;
+  ASSERT_GT(cv::countNonZero(near), 20000);
+  expect_same_partition(near, "table");
+  expect_same_partition(near == 0, "not table");
+  // keeping and drawing components, and the components that touch another mask
+  const Components c = connected_components(near);
+  std::vector<std::uint8_t> keep(std::size_t(c.count()), 0);
+  keep[0] = 1;
+  const cv::Mat first = draw_components(c, keep);
+  EXPECT_EQ(std::size_t(cv::countNonZero(first)), c.area[0]);
+  EXPECT_EQ(components_touching(c, first), keep);
+  EXPECT_THROW(connected_components(cv::Mat(3, 3, CV_32F)), InputError);
+  EXPECT_THROW(components_touching(c, cv::Mat(3, 3, CV_8U)), InputError);
 }

@@ -11,6 +11,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/components.hpp"
+#include "core/vectorize.hpp"
 #include "mereo/core/error.hpp"
 
 namespace mereo::extension {
@@ -22,97 +24,127 @@ constexpr double kDeg = M_PI / 180.0;
 /// its value at 0.7 m.
 inline double tolerance(double epsilon, double z) { return epsilon * std::max(z * z, 0.5); }
 
-struct Sample {
-  Eigen::Vector3f p, n;
-  bool central;
+/// A plane (n, d) and its inlier test, in float (eps: the tolerance at 1 m, where one applies).
+struct PlaneTest {
+  float nx, ny, nz, d, eps, cos_dev;
 };
 
+/// The grid samples (points with normals) in columns, with each point's inlier tolerance.
+struct Grid {
+  std::vector<float> x, y, z, nx, ny, nz, tol;
+  std::vector<std::uint8_t> central;
+  std::size_t size() const { return x.size(); }
+};
+
+/// How many of the n samples are inliers of the plane t (within their tolerance, normal within
+/// acos(cos_dev)), and how many of those are central. Branch-free, so that it vectorizes.
+MEREO_VECTOR_CLONES void count_inliers(const float* __restrict x, const float* __restrict y, const float* __restrict z,
+                                       const float* __restrict nx, const float* __restrict ny,
+                                       const float* __restrict nz, const float* __restrict tol,
+                                       const std::uint8_t* __restrict central, int n, PlaneTest t, int& all,
+                                       int& in_centre) {
+  int a = 0, c = 0;
+  for (int i = 0; i < n; ++i) {
+    const bool in = (std::abs(t.nx * x[i] + t.ny * y[i] + t.nz * z[i] + t.d) <= tol[i]) &
+                    (std::abs(t.nx * nx[i] + t.ny * ny[i] + t.nz * nz[i]) >= t.cos_dev);
+    a += in;
+    c += in & central[i];
+  }
+  all = a, in_centre = c;
+}
+
+/// One row of near_plane: m[u] = 1 where the point p[S u] (S = 3 stride) is valid and within the
+/// inlier distance of the plane; with normals q, also where |n . q[S u]| >= cos_dev. Branch-free
+/// in float (a missing point or normal is NaN or out of range and fails the tests by itself).
+template <int kStride>
+MEREO_VECTOR_CLONES void near_plane_row(const float* __restrict p, const float* __restrict q,
+                                        std::uint8_t* __restrict m, int n, PlaneTest t) {
+  constexpr int S = 3 * kStride;
+  for (int u = 0; u < n; ++u) {
+    const float x = p[S * u], y = p[S * u + 1], z = p[S * u + 2];
+    const bool valid = (z >= kMinRange) & (z <= kMaxRange) & (std::abs(x) <= kMaxRange) & (std::abs(y) <= kMaxRange);
+    const bool near = std::abs(t.nx * x + t.ny * y + t.nz * z + t.d) <= t.eps * std::max(z * z, 0.5f);
+    m[u] = std::uint8_t(valid & near);
+  }
+  if (q)
+    for (int u = 0; u < n; ++u)
+      m[u] &= std::uint8_t(std::abs(t.nx * q[S * u] + t.ny * q[S * u + 1] + t.nz * q[S * u + 2]) >= t.cos_dev);
+}
+
 /// The pixels (1) within the inlier distance of the plane (n, d) and, given normals, whose normal
-/// is within acos(cos_dev) of n, on every `stride`-th pixel of every `stride`-th row.
+/// is within acos(cos_dev) of n, on every `stride`-th pixel (1 or 2) of every `stride`-th row.
 cv::Mat near_plane(const Cloud& cloud, const NormalMap* normals, const Eigen::Vector3d& n, double d, double eps,
                    double cos_dev, int stride) {
   const int H = (cloud.rows() + stride - 1) / stride, W = (cloud.cols() + stride - 1) / stride;
-  cv::Mat mask(H, W, CV_8U, cv::Scalar(0));
+  cv::Mat mask(H, W, CV_8U);
+  const PlaneTest t{float(n.x()), float(n.y()), float(n.z()), float(d), float(eps), float(cos_dev)};
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
+      const float* p = cloud.ptr(stride * v, 0);
+      const float* q = normals ? normals->ptr(stride * v, 0) : nullptr;
       std::uint8_t* m = mask.ptr<std::uint8_t>(v);
-      for (int u = 0; u < W; ++u) {
-        const float* p = cloud.ptr(stride * v, stride * u);
-        if (!valid_point(p)) continue;
-        const double dist = std::abs(n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d);
-        if (dist > tolerance(eps, p[2])) continue;
-        if (normals) {
-          const float* q = normals->ptr(stride * v, stride * u);
-          if (!std::isfinite(q[0]) || std::abs(n.x() * q[0] + n.y() * q[1] + n.z() * q[2]) < cos_dev) continue;
-        }
-        m[u] = 1;
-      }
+      if (stride == 1) near_plane_row<1>(p, q, m, W, t);
+      else near_plane_row<2>(p, q, m, W, t);
     }
   });
   return mask;
 }
 
-/// 255 where `labels` holds a label that `keep` marks, 0 elsewhere.
-cv::Mat kept_labels(const cv::Mat& labels, const std::vector<std::uint8_t>& keep) {
-  cv::Mat out(labels.rows, labels.cols, CV_8U, cv::Scalar(0));
-  for (int v = 0; v < labels.rows; ++v) {
-    const int* l = labels.ptr<int>(v);
-    std::uint8_t* o = out.ptr<std::uint8_t>(v);
-    for (int u = 0; u < labels.cols; ++u) o[u] = keep[std::size_t(l[u])] ? 255 : 0;
-  }
-  return out;
-}
-
 /// Inliers of the plane (n, d): its 4-connected regions of at least 1/8 of the largest one's
 /// size, on every `stride`-th pixel of every `stride`-th row (region pixel (v, u) is the cloud's
-/// (stride v, stride u)).
+/// (stride v, stride u)); 255 where selected.
 cv::Mat inlier_region(const Cloud& cloud, const NormalMap& normals, const Eigen::Vector3d& n,
                       double d, double eps, double cos_dev, int stride = 1) {
-  cv::Mat labels, stats, centroids;
-  const int count = cv::connectedComponentsWithStats(near_plane(cloud, &normals, n, d, eps, cos_dev, stride), labels,
-                                                     stats, centroids, 4, CV_32S);
-  int best_area = 0;
-  for (int k = 1; k < count; ++k) best_area = std::max(best_area, stats.at<int>(k, cv::CC_STAT_AREA));
+  const Components c = connected_components(near_plane(cloud, &normals, n, d, eps, cos_dev, stride));
+  const std::size_t best_area = c.area.empty() ? 0 : *std::max_element(c.area.begin(), c.area.end());
   // the largest region and the pieces of the same plane that objects standing on it cut off
-  std::vector<std::uint8_t> keep(std::size_t(count), 0);
-  for (int k = 1; k < count; ++k) keep[std::size_t(k)] = 8 * stats.at<int>(k, cv::CC_STAT_AREA) >= best_area;
-  return kept_labels(labels, keep);  // 255 where selected
+  std::vector<std::uint8_t> keep(c.area.size());
+  for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = 8 * c.area[k] >= best_area;
+  return draw_components(c, keep);
 }
 
 /// The plane's extent: the pixels within the inlier distance of (n, d), whatever their normals,
 /// 4-connected to its inlier region (255 where selected). Active-stereo normals are wavy: the
 /// inliers with agreeing normals leave a filigree that covers a part of the table only.
 cv::Mat extent_region(const Cloud& cloud, const cv::Mat& region, const Eigen::Vector3d& n, double d, double eps) {
-  cv::Mat labels;
-  const int count = cv::connectedComponents(near_plane(cloud, nullptr, n, d, eps, 0, 1), labels, 4, CV_32S);
-  std::vector<std::uint8_t> keep(std::size_t(count), 0);
-  for (int v = 0; v < labels.rows; ++v) {
-    const int* l = labels.ptr<int>(v);
-    const std::uint8_t* r = region.ptr<std::uint8_t>(v);
-    for (int u = 0; u < labels.cols; ++u)
-      if (r[u]) keep[std::size_t(l[u])] = 1;
-  }
-  keep[0] = 0;
-  return kept_labels(labels, keep);
+  const Components c = connected_components(near_plane(cloud, nullptr, n, d, eps, 0, 1));
+  return draw_components(c, components_touching(c, region));
 }
 
 /// PCA plane of the masked points (of a region on every `stride`-th pixel): returns the RMS
 /// distance; n oriented with d > 0; count is the region's pixels.
 double fit_plane(const Cloud& cloud, const cv::Mat& region, Eigen::Vector3d& n, double& d,
                  Eigen::Vector3d& centroid, std::size_t& count, int stride = 1) {
+  // sums of the coordinates and their products, per row about the row's first point (six
+  // products per point, small values), then moved to the camera origin
   Eigen::Vector3d s = Eigen::Vector3d::Zero();
   Eigen::Matrix3d ss = Eigen::Matrix3d::Zero();
   count = 0;
   for (int v = 0; v < region.rows; ++v) {
     const std::uint8_t* m = region.ptr<std::uint8_t>(v);
-    for (int u = 0; u < region.cols; ++u) {
+    const float* row = cloud.ptr(stride * v, 0);
+    int first = 0;
+    while (first < region.cols && !m[first]) ++first;
+    if (first == region.cols) continue;
+    const float* o = row + 3 * stride * first;
+    const double ox = o[0], oy = o[1], oz = o[2];
+    double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+    int k = 0;
+    for (int u = first; u < region.cols; ++u) {
       if (!m[u]) continue;
-      const float* p = cloud.ptr(stride * v, stride * u);
-      const Eigen::Vector3d x(p[0], p[1], p[2]);
-      s += x;
-      ss += x * x.transpose();
-      ++count;
+      const float* p = row + 3 * stride * u;
+      const double x = p[0] - ox, y = p[1] - oy, z = p[2] - oz;
+      sx += x, sy += y, sz += z;
+      sxx += x * x, sxy += x * y, sxz += x * z, syy += y * y, syz += y * z, szz += z * z;
+      ++k;
     }
+    // back to the camera origin: sum (o + x)(o + x)^T = k o o^T + o sx^T + sx o^T + sum x x^T
+    const Eigen::Vector3d O(ox, oy, oz), S(sx, sy, sz);
+    Eigen::Matrix3d X;
+    X << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+    s += double(k) * O + S;
+    ss += double(k) * O * O.transpose() + O * S.transpose() + S * O.transpose() + X;
+    count += std::size_t(k);
   }
   if (count < 3) return INFINITY;
   centroid = s / double(count);
@@ -209,6 +241,20 @@ inline bool central(int u, int v, int W, int H) {
   return std::abs(u - W / 2) < W / 4 && std::abs(v - H / 2) < H / 4;
 }
 
+/// One row of region_above's height test: band[u] = 1 where the point p[3 kStride u] is valid and
+/// its height r . p + t above the plane lies in [lo max(1, z^2), hi]. Branch-free.
+template <int kStride>
+MEREO_VECTOR_CLONES void height_band_row(const float* __restrict p, std::uint8_t* __restrict band, int n,
+                                         Eigen::Vector3f r, float t, float lo, float hi) {
+  constexpr int S = 3 * kStride;
+  for (int u = 0; u < n; ++u) {
+    const float x = p[S * u], y = p[S * u + 1], z = p[S * u + 2];
+    const bool valid = (z >= kMinRange) & (z <= kMaxRange) & (std::abs(x) <= kMaxRange) & (std::abs(y) <= kMaxRange);
+    const float h = r.x() * x + r.y() * y + r.z() * z + t;
+    band[u] = std::uint8_t(valid & (h >= lo * std::max(1.f, z * z)) & (h <= hi));
+  }
+}
+
 /// region_above on every `stride`-th pixel of every `stride`-th row (the others stay 0).
 Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double min_height,
                           double max_height, double margin, int stride) {
@@ -221,23 +267,39 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
   if (signed_area2(poly) < 0) std::reverse(poly.begin(), poly.end());
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
+  // each edge as a line a x + b y + c = signed distance to its left (inside), a, b of unit length
+  struct Edge {
+    float a, b, c;
+  };
+  std::vector<Edge> edges;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Eigen::Vector2d& p = poly[i];
+    const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - p;
+    const double len = e.norm();
+    if (len <= 0) continue;
+    const double a = -e.y() / len, b = e.x() / len;
+    edges.push_back({float(a), float(b), float(-(a * p.x() + b * p.y()))});
+  }
+  const float lo = float(min_height), hi = float(max_height), inside_by = float(margin);
+  const int n = (W + stride - 1) / stride;  // sampled pixels per row
   tbb::parallel_for(tbb::blocked_range<int>(0, (H + stride - 1) / stride, 8), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<std::uint8_t> band(static_cast<std::size_t>(n));
     for (int v = rows.begin() * stride; v < rows.end() * stride; v += stride) {
-      for (int u = 0; u < W; u += stride) {
-        const float* p = cloud.ptr(v, u);
-        if (!valid_point(p)) continue;
-        const Eigen::Vector3f w = R * Eigen::Vector3f(p[0], p[1], p[2]) + t;
-        if (w.z() < min_height * std::max(1.f, p[2] * p[2]) || w.z() > max_height) continue;
+      const float* row = cloud.ptr(v, 0);
+      if (stride == 1) height_band_row<1>(row, band.data(), n, R.row(2), t.z(), lo, hi);
+      else height_band_row<2>(row, band.data(), n, R.row(2), t.z(), lo, hi);
+      for (int k = 0; k < n; ++k) {
+        if (!band[std::size_t(k)]) continue;
+        const float* p = row + 3 * stride * k;
+        const float x = R(0, 0) * p[0] + R(0, 1) * p[1] + R(0, 2) * p[2] + t.x(),
+                    y = R(1, 0) * p[0] + R(1, 1) * p[1] + R(1, 2) * p[2] + t.y();
         bool inside = true;
-        for (std::size_t i = 0; i < poly.size() && inside; ++i) {
-          const Eigen::Vector2d& a = poly[i];
-          const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - a;
-          const double len = e.norm();
-          if (len <= 0) continue;
-          const double side = (e.x() * (w.y() - a.y()) - e.y() * (w.x() - a.x())) / len;
-          inside = side >= margin;
-        }
-        if (inside) roi(v, u) = 1;
+        for (const Edge& e : edges)
+          if (e.a * x + e.b * y + e.c < inside_by) {
+            inside = false;
+            break;
+          }
+        if (inside) roi(v, stride * k) = 1;
       }
     }
   });
@@ -266,50 +328,47 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   const double cos_dev = std::cos(o.normal_deviation_deg * kDeg);
 
   // grid samples with a valid point and normal
-  std::vector<Sample> samples;
+  Grid grid;
   for (int v = o.step / 2; v < H; v += o.step)
     for (int u = o.step / 2; u < W; u += o.step) {
       const float* p = cloud.ptr(v, u);
       const float* n = normals.ptr(v, u);
       if (!valid_point(p) || !std::isfinite(n[0])) continue;
-      samples.push_back({Eigen::Vector3f(p[0], p[1], p[2]), Eigen::Vector3f(n[0], n[1], n[2]), central(u, v, W, H)});
+      grid.x.push_back(p[0]), grid.y.push_back(p[1]), grid.z.push_back(p[2]);
+      grid.nx.push_back(n[0]), grid.ny.push_back(n[1]), grid.nz.push_back(n[2]);
+      grid.tol.push_back(float(o.epsilon) * std::max(p[2] * p[2], 0.5f));
+      grid.central.push_back(central(u, v, W, H));
     }
+  const auto point = [&](std::size_t i) { return Eigen::Vector3f(grid.x[i], grid.y[i], grid.z[i]); };
+  const auto normal = [&](std::size_t i) { return Eigen::Vector3f(grid.nx[i], grid.ny[i], grid.nz[i]); };
   const std::size_t min_grid = std::size_t(o.min_inliers) / std::size_t(o.step * o.step);
-  if (samples.size() < std::max<std::size_t>(min_grid, 3))
-    throw InputError("support plane: too few valid points (" + std::to_string(samples.size()) +
+  if (grid.size() < std::max<std::size_t>(min_grid, 3))
+    throw InputError("support plane: too few valid points (" + std::to_string(grid.size()) +
                      " on the grid); the frame is empty or all NaN");
 
   // hypotheses: seed samples whose normal is near `up` (drawn in order from the seed)
   std::vector<int> seeds;
   std::mt19937_64 rng(o.seed);
-  std::uniform_int_distribution<std::size_t> pick(0, samples.size() - 1);
+  std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
   for (int tries = 0; tries < o.hypotheses * 20 && int(seeds.size()) < o.hypotheses; ++tries) {
     const std::size_t i = pick(rng);
-    if (samples[i].n.cast<double>().dot(up) >= cos_tilt) seeds.push_back(int(i));
+    if (normal(i).cast<double>().dot(up) >= cos_tilt) seeds.push_back(int(i));
   }
   if (seeds.empty())
     throw InputError("support plane: no surface faces up (within the tilt limit); no table in view");
   std::vector<double> score(seeds.size(), 0.0);
   std::vector<std::size_t> support(seeds.size(), 0);
-  const float eps = float(o.epsilon), cdev = float(cos_dev);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, seeds.size(), 4),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t h = r.begin(); h < r.end(); ++h) {
-                        const Sample& s = samples[std::size_t(seeds[h])];
-                        const Eigen::Vector3f n = s.n;
-                        const float d = -n.dot(s.p);
-                        std::size_t all = 0, central = 0;
-                        for (const Sample& x : samples) {
-                          const float z = x.p.z();
-                          if (std::abs(n.dot(x.p) + d) > eps * std::max(z * z, 0.5f)) continue;
-                          if (std::abs(n.dot(x.n)) < cdev) continue;
-                          ++all;
-                          central += x.central;
-                        }
-                        support[h] = all;
-                        score[h] = double(all) + 3.0 * double(central);
-                      }
-                    });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, seeds.size(), 4), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t h = r.begin(); h < r.end(); ++h) {
+      const Eigen::Vector3f n = normal(std::size_t(seeds[h]));
+      const PlaneTest t{n.x(), n.y(), n.z(), -n.dot(point(std::size_t(seeds[h]))), 0.f, float(cos_dev)};
+      int all = 0, in_centre = 0;
+      count_inliers(grid.x.data(), grid.y.data(), grid.z.data(), grid.nx.data(), grid.ny.data(), grid.nz.data(),
+                    grid.tol.data(), grid.central.data(), int(grid.size()), t, all, in_centre);
+      support[h] = std::size_t(all);
+      score[h] = double(all) + 3.0 * double(in_centre);
+    }
+  });
   // Candidate planes: the best hypotheses, one per distinct plane (non-maximum suppression),
   // each refitted to its full-resolution connected region.
   std::vector<std::size_t> order(seeds.size());
@@ -317,8 +376,8 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return score[a] > score[b]; });
   struct Candidate {
     Eigen::Vector3d n, centroid;
+    Eigen::Vector3d seed_p, seed_n;  ///< its hypothesis: a grid point and its normal
     double d = 0, weight = 0, area = 0;
-    std::size_t seed = 0;  ///< index of its hypothesis
     cv::Mat region;
     std::size_t count = 0;
   };
@@ -328,13 +387,13 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     if (int(candidates.size()) >= o.candidates) break;
     best_support = std::max(best_support, support[h]);
     if (support[h] < min_grid) break;
-    const Sample& s = samples[std::size_t(seeds[h])];
+    const Eigen::Vector3f seed_p = point(std::size_t(seeds[h])), seed_n = normal(std::size_t(seeds[h]));
     const auto taken = [&](const Eigen::Vector3d& x) {  // x lies on a plane already taken
       for (const Candidate& c : candidates)
         if (std::abs(c.n.dot(x) + c.d) < 3 * tolerance(o.epsilon, x.z())) return true;
       return false;
     };
-    if (taken(s.p.cast<double>())) continue;
+    if (taken(seed_p.cast<double>())) continue;
     // a plane weighs at most 8 times its pixels (4 near the centre, as many standing on it): one
     // too small to reach min_share of the heaviest so far is not refitted (1.5: grid sampling)
     double heaviest = 0;
@@ -344,9 +403,9 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     // refitted at full resolution from its seed
     constexpr int kStride = 2;
     Candidate c;
-    c.seed = h;
-    c.n = s.n.cast<double>().normalized();
-    c.d = -c.n.dot(s.p.cast<double>());
+    c.seed_p = seed_p.cast<double>(), c.seed_n = seed_n.cast<double>().normalized();
+    c.n = c.seed_n;
+    c.d = -c.n.dot(c.seed_p);
     c.region = inlier_region(cloud, normals, c.n, c.d, o.epsilon, cos_dev, kStride);
     fit_plane(cloud, c.region, c.n, c.d, c.centroid, c.count, kStride);
     c.count *= kStride * kStride;
@@ -395,9 +454,8 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
                      " points, fewer than min_inliers = " + std::to_string(o.min_inliers));
   }
   // the chosen plane refitted at full resolution from its seed, then with a tighter tolerance
-  const Sample& seed = samples[std::size_t(seeds[chosen->seed])];
-  Eigen::Vector3d n = seed.n.cast<double>().normalized(), centroid;
-  double d = -n.dot(seed.p.cast<double>()), rms = 0;
+  Eigen::Vector3d n = chosen->seed_n, centroid;
+  double d = -n.dot(chosen->seed_p), rms = 0;
   std::size_t count = 0;
   cv::Mat region;
   for (int round = 0; round < 2; ++round) {

@@ -9,19 +9,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/vectorize.hpp"
 #include "mereo/core/error.hpp"
 
 namespace mereo::signal {
 
 namespace {
-
-// Built for AVX2 as well where the compiler can dispatch at run time (twice the lanes of the
-// baseline SSE2): the same arithmetic, so the same result to rounding.
-#if defined(__GNUC__) && defined(__x86_64__) && defined(__linux__)
-#define MEREO_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define MEREO_VECTOR_CLONES
-#endif
 
 /// One window offset's contribution to n output pixels of a row: q holds their neighbours at the
 /// offset, z their own depth, w is the offset's spatial weight; accumulates the

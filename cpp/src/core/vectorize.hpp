@@ -4,7 +4,8 @@
 // __restrict pointers and no branch in it.
 #pragma once
 
-#if defined(__GNUC__) && defined(__x86_64__) && defined(__linux__)
+// GCC only: clang 14 does not multiversion function templates (the fuzz build uses clang).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
 #define MEREO_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define MEREO_VECTOR_CLONES

@@ -22,7 +22,8 @@ constexpr double kDeg = M_PI / 180.0;
 
 /// Inlier tolerance at depth z: epsilon grows with z^2 (Kinect axial noise), never below
 /// its value at 0.7 m.
-inline double tolerance(double epsilon, double z) { return epsilon * std::max(z * z, 0.5); }
+template <typename T>
+inline T tolerance(T epsilon, T z) { return epsilon * std::max(z * z, T(0.5)); }
 
 /// A plane (n, d) and its inlier test, in float (eps: the tolerance at 1 m, where one applies).
 struct PlaneTest {
@@ -62,9 +63,8 @@ MEREO_VECTOR_CLONES void near_plane_row(const float* __restrict p, const float* 
   constexpr int S = 3 * kStride;
   for (int u = 0; u < n; ++u) {
     const float x = p[S * u], y = p[S * u + 1], z = p[S * u + 2];
-    const bool valid = (z >= kMinRange) & (z <= kMaxRange) & (std::abs(x) <= kMaxRange) & (std::abs(y) <= kMaxRange);
-    const bool near = std::abs(t.nx * x + t.ny * y + t.nz * z + t.d) <= t.eps * std::max(z * z, 0.5f);
-    m[u] = std::uint8_t(valid & near);
+    const bool near = std::abs(t.nx * x + t.ny * y + t.nz * z + t.d) <= tolerance(t.eps, z);
+    m[u] = std::uint8_t(valid_point(x, y, z) & near);
   }
   if (q)
     for (int u = 0; u < n; ++u)
@@ -249,9 +249,8 @@ MEREO_VECTOR_CLONES void height_band_row(const float* __restrict p, std::uint8_t
   constexpr int S = 3 * kStride;
   for (int u = 0; u < n; ++u) {
     const float x = p[S * u], y = p[S * u + 1], z = p[S * u + 2];
-    const bool valid = (z >= kMinRange) & (z <= kMaxRange) & (std::abs(x) <= kMaxRange) & (std::abs(y) <= kMaxRange);
     const float h = r.x() * x + r.y() * y + r.z() * z + t;
-    band[u] = std::uint8_t(valid & (h >= lo * std::max(1.f, z * z)) & (h <= hi));
+    band[u] = std::uint8_t(valid_point(x, y, z) & (h >= lo * std::max(1.f, z * z)) & (h <= hi));
   }
 }
 
@@ -336,7 +335,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
       if (!valid_point(p) || !std::isfinite(n[0])) continue;
       grid.x.push_back(p[0]), grid.y.push_back(p[1]), grid.z.push_back(p[2]);
       grid.nx.push_back(n[0]), grid.ny.push_back(n[1]), grid.nz.push_back(n[2]);
-      grid.tol.push_back(float(o.epsilon) * std::max(p[2] * p[2], 0.5f));
+      grid.tol.push_back(tolerance(float(o.epsilon), p[2]));
       grid.central.push_back(central(u, v, W, H));
     }
   const auto point = [&](std::size_t i) { return Eigen::Vector3f(grid.x[i], grid.y[i], grid.z[i]); };

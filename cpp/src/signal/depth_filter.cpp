@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,11 @@ MEREO_VECTOR_CLONES void accumulate(const float* __restrict q, const float* __re
   }
 }
 
+/// A depth image whose every value the caller writes: no fill first.
+DepthImage unfilled(int rows, int cols) {
+  return DepthImage(rows, cols, std::shared_ptr<float[]>(new float[std::size_t(rows) * std::size_t(cols)]));
+}
+
 }  // namespace
 
 DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
@@ -44,7 +50,7 @@ DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
   if (!(o.sigma_space > 0) || !(o.sigma_depth > 0) || !(o.depth_change_factor > 0))
     throw InputError("filter_depth: sigma_space, sigma_depth and depth_change_factor must be > 0");
   const int H = depth.rows(), W = depth.cols(), r = o.radius;
-  DepthImage out(H, W, kNaN);
+  DepthImage out = unfilled(H, W);  // every row written below
   // spatial weights, one table
   const int side = 2 * r + 1;
   std::vector<float> ws(std::size_t(side) * side);
@@ -54,7 +60,7 @@ DepthImage filter_depth(const DepthImage& depth, const DepthFilterOptions& o) {
   const float sd = float(o.sigma_depth), cut = float(o.depth_change_factor);
   // the depth with every invalid pixel NaN: a NaN neighbour or centre then fails the jump test
   // below without a branch
-  DepthImage clean(H, W, kNaN);
+  DepthImage clean = unfilled(H, W);
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
       const float* d = depth.ptr(v, 0);

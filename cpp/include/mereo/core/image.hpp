@@ -83,9 +83,11 @@ inline constexpr float kMinRange = 1e-4f, kMaxRange = 1e3f;
 inline bool valid_depth(float z) { return z >= kMinRange && z <= kMaxRange; }
 /// A measured point of a Cloud (a pointer to its x, y, z): in front of the camera, every
 /// coordinate within the sensor range (NaN fails every comparison).
-inline bool valid_point(const float* p) {
-  return valid_depth(p[2]) && std::abs(p[0]) <= kMaxRange && std::abs(p[1]) <= kMaxRange;
+inline bool valid_point(float x, float y, float z) {
+  // & rather than &&: no branch, so that loops over rows of points vectorize
+  return (z >= kMinRange) & (z <= kMaxRange) & (std::abs(x) <= kMaxRange) & (std::abs(y) <= kMaxRange);
 }
+inline bool valid_point(const float* p) { return valid_point(p[0], p[1], p[2]); }
 /// Per-pixel unit normals, camera frame, oriented towards the camera, NaN where undefined.
 using NormalMap = Image<float, 3>;
 /// Integer labels per pixel (object ids, part ids, dataset labels); 0 = none.

@@ -387,6 +387,54 @@ TEST(Features, APatchOfTheBodysOwnWallIsNoHandle) {
   EXPECT_FALSE(features::wall_patch(B, handle_torus, wall, tolerance));
 }
 
+TEST(Features, TheWiderRestOfATaperedWallIsNoHandle) {
+  // a cup along -y at 1 m whose wall tapers by 8 degrees (radius 3.2 cm at its middle, wider
+  // towards -y); the detector held its lower half as a cylinder of radius 3.2 cm, and its upper
+  // half stands off that cylinder by up to 1 cm: a torus fitted there is the wall, not a handle.
+  // 3 mm noise (active stereo at 1 m); the side of the wall facing the camera.
+  const Segment body = cylinder({0.0, 0.0, 1.0}, {0, -1, 0}, 0.032, 0.05);
+  const auto& B = body.as<shapes::Cylinder>();
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  auto jitter = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng))); };
+  const double k = std::tan(8 * M_PI / 180);
+  auto on_cone = [&](double a, double y) {  // y along the image's -y = up the cup
+    const double r = B.radius + k * (-y);
+    return jitter({r * std::sin(a), y, 1.0 - r * std::cos(a)});
+  };
+  std::vector<Eigen::Vector3d> lower, upper, handle;
+  for (double a = -0.7; a <= 0.7; a += 0.05) {
+    for (double y = 0.045; y >= 0.0; y -= 0.004) lower.push_back(on_cone(a, y));
+    for (double y = -0.004; y >= -0.045; y -= 0.004) upper.push_back(on_cone(a, y));
+  }
+  // a mug's handle on the same body (ring radius 2.5 cm, tube 6 mm, attached to the wall), its
+  // side facing the camera beyond the wall
+  const Segment handle_torus = torus({0.052, 0.0, 1.0}, {0, 0, 1}, 0.025, 0.006);
+  for (double a = -M_PI; a < M_PI; a += 0.05)
+    for (double b = -M_PI; b < M_PI; b += 0.4) {
+      auto [p, pn] = torus_point(handle_torus, a, b);
+      const double from_axis = Eigen::Vector2d(p.x() - B.point.x(), p.z() - B.point.z()).norm();
+      if (pn.dot(-p.normalized()) > 0.1 && from_axis > B.radius + 0.002) handle.push_back(jitter(p));
+    }
+  const auto tolerance = [](double) { return 0.006; };
+  EXPECT_TRUE(features::tapered_wall(B, lower, upper, tolerance));
+  EXPECT_FALSE(features::tapered_wall(B, lower, handle, tolerance));
+  // a straight wall (no taper) with the handle: no line through the wall holds the handle
+  std::vector<Eigen::Vector3d> straight;
+  for (double a = -0.7; a <= 0.7; a += 0.05)
+    for (double y = 0.045; y >= -0.045; y -= 0.004)
+      straight.push_back(jitter({B.radius * std::sin(a), y, 1.0 - B.radius * std::cos(a)}));
+  EXPECT_FALSE(features::tapered_wall(B, straight, handle, tolerance));
+  // a wall that would have to flare by 40 degrees to reach the points is no cup's
+  std::vector<Eigen::Vector3d> flare;
+  for (double a = -0.7; a <= 0.7; a += 0.05)
+    for (double y = -0.004; y >= -0.045; y -= 0.004) {
+      const double r = B.radius + std::tan(40 * M_PI / 180) * (-y);
+      flare.push_back(jitter({r * std::sin(a), y, 1.0 - r * std::cos(a)}));
+    }
+  EXPECT_FALSE(features::tapered_wall(B, lower, flare, tolerance));
+}
+
 // Tapered cups (cone bodies, 4-10 degrees) in the renderer with its Kinect-like noise, found as
 // cones by the detector (classes plane, cylinder, cone; points above the table): the cone's radii
 // at the true ends of the body within 2 mm and its axis within 2 degrees; upright cylinders

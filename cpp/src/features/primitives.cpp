@@ -646,7 +646,11 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
                                    std::vector<Eigen::Vector3d> pts;
                                    pts.reserve(t.pixels.size());
                                    for (int i : t.pixels) pts.push_back(f.p(i));
-                                   return wall_patch(*body, t, pts, [&](double z) { return f.eps(z); });
+                                   const auto eps = [&](double z) { return f.eps(z); };
+                                   std::vector<Eigen::Vector3d> wall;
+                                   wall.reserve(out[k].pixels.size());
+                                   for (int i : out[k].pixels) wall.push_back(f.p(i));
+                                   return wall_patch(*body, t, pts, eps) || tapered_wall(*body, wall, pts, eps);
                                  }),
                   found.end());
       if (found.empty() && h.from_colour)

@@ -169,4 +169,40 @@ bool wall_patch(const shapes::Cylinder& body, const Segment& t, const std::vecto
   return 2 * on_wall > points.size();
 }
 
+/// A torus found next to `body` that is the rest of a tapered wall: the body's cylinder was fitted
+/// to the part of a cone (a tapered cup) near its radius, and the wall beyond it, wider, was taken
+/// for a tube. A line rho = r0 + k t (distance from the body's axis against the position along it)
+/// fitted to the body's points and the torus's together is a cone through both; when it tapers by
+/// at most kMaxTaperDeg and holds most of the torus's points within `tolerance(z)`, they are wall.
+/// A handle's points stand off the wall by up to its ring's diameter: no line through the wall
+/// holds them.
+template <class Tolerance>
+bool tapered_wall(const shapes::Cylinder& body, const std::vector<Eigen::Vector3d>& wall,
+                  const std::vector<Eigen::Vector3d>& points, Tolerance tolerance) {
+  constexpr double kMaxTaperDeg = 25;
+  const Eigen::Vector3d a = body.axis.normalized();
+  const auto t_rho = [&](const Eigen::Vector3d& x) {
+    const Eigen::Vector3d q = x - body.point;
+    const double t = a.dot(q);
+    return Eigen::Vector2d(t, (q - a * t).norm());
+  };
+  double n = 0, st = 0, sr = 0, stt = 0, str = 0;
+  for (const auto* set : {&wall, &points})
+    for (const auto& x : *set) {
+      const Eigen::Vector2d p = t_rho(x);
+      n += 1, st += p.x(), sr += p.y(), stt += p.x() * p.x(), str += p.x() * p.y();
+    }
+  const double var = stt - st * st / std::max(n, 1.0);
+  if (points.empty() || !(var > 0)) return false;
+  const double k = (str - st * sr / n) / var, r0 = (sr - k * st) / n;
+  if (std::abs(k) > std::tan(kMaxTaperDeg * M_PI / 180)) return false;
+  const double c = 1 / std::sqrt(1 + k * k);  // the distance from the line along its normal
+  std::size_t on = 0;
+  for (const auto& x : points) {
+    const Eigen::Vector2d p = t_rho(x);
+    on += std::abs(p.y() - r0 - k * p.x()) * c <= tolerance(x.z());
+  }
+  return 2 * on > points.size();
+}
+
 }  // namespace mereo::features

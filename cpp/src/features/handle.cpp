@@ -395,11 +395,12 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
   if (v.dot(c) > 0) v = -v;
   std::optional<Segment> best;
   std::size_t best_count = 0;
+  std::vector<int> slot;  // the zone's grid (reused across the planes)
   const int turns = int(std::floor(std::clamp(max_turn_deg, 0.0, 75.0) * M_PI / 180 / kTurnStep + 1e-9));
   for (int k = 0; k < 2 * (2 * turns + 1); ++k) {
     const double side = k % 2 ? -1.0 : 1.0, turn = kTurnStep * (k / 2 - turns);
     const Eigen::Vector3d w = side * std::cos(turn) * w0 + std::sin(turn) * v;
-    std::unordered_map<int, Zone> zone;
+    std::vector<std::pair<int, Zone>> samples;
     std::vector<int> background;
     for (double t = -half + 0.05 * cyl.height; t <= half - 0.03 * cyl.height; t += step)
       for (double rho = r + step; rho <= r + kColourReach + kBackgroundWidth; rho += step) {
@@ -407,13 +408,31 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
         const Eigen::Vector3d x = c + a * t + w * rho;
         const int i = pixel_of(x);
         if (i < 0) continue;
-        if (rho <= r + kColourReach) zone.emplace(i, Zone{t, rho, x});
+        if (rho <= r + kColourReach) samples.push_back({i, Zone{t, rho, x}});
         else background.push_back(i);
       }
-    if (zone.empty() || background.empty()) continue;
+    if (samples.empty() || background.empty()) continue;
+    // the zone: each pixel once, with its first sample; found through a grid over its box
+    int u0 = W, v0 = H, u1 = -1, v1 = -1;
+    for (const auto& sample : samples) {
+      const int u = sample.first % W, v = sample.first / W;
+      u0 = std::min(u0, u), v0 = std::min(v0, v), u1 = std::max(u1, u), v1 = std::max(v1, v);
+    }
+    const int gw = u1 - u0 + 1;
+    slot.assign(std::size_t(gw) * std::size_t(v1 - v0 + 1), -1);
+    const auto zone_of = [&](int i) {  // the pixel's index in `zone`, or -1
+      const int u = i % W, v = i / W;
+      return u < u0 || u > u1 || v < v0 || v > v1 ? -1 : slot[std::size_t((v - v0) * gw + (u - u0))];
+    };
+    std::vector<int> zone_pixels;
+    std::vector<Zone> zone;
+    for (const auto& [i, z] : samples) {
+      int& k = slot[std::size_t((i / W - v0) * gw + (i % W - u0))];
+      if (k < 0) k = int(zone.size()), zone_pixels.push_back(i), zone.push_back(z);
+    }
     std::sort(background.begin(), background.end());
     background.erase(std::unique(background.begin(), background.end()), background.end());
-    background.erase(std::remove_if(background.begin(), background.end(), [&](int i) { return zone.count(i) > 0; }),
+    background.erase(std::remove_if(background.begin(), background.end(), [&](int i) { return zone_of(i) >= 0; }),
                      background.end());
     if (background.size() < 10) continue;
     Eigen::Vector3d bg = Eigen::Vector3d::Zero();
@@ -428,16 +447,16 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     for (int i : background) background_like += like_body(i);
     if (background_like > kMaxBackgroundMatch * double(background.size())) continue;
     // the handle's pixels: the body's colour, depth near the plane or none, connected to the wall
-    std::unordered_map<int, bool> handle;
-    for (const auto& [i, z] : zone) {
+    std::vector<char> handle(zone.size()), seen(zone.size(), 0);
+    for (std::size_t k = 0; k < zone.size(); ++k) {
+      const int i = zone_pixels[k];
       const Eigen::Vector3d x = f.p(i);
-      const bool depth_ok = !(x.z() > 0) || std::abs(x.z() - z.x.z()) < kPlaneDepth;
-      handle[i] = depth_ok && like_body(i);
+      const bool depth_ok = !(x.z() > 0) || std::abs(x.z() - zone[k].x.z()) < kPlaneDepth;
+      handle[k] = depth_ok && like_body(i);
     }
     std::vector<int> stack, comp;
-    std::unordered_map<int, bool> seen;
-    for (const auto& [i, z] : zone)
-      if (handle[i] && z.rho * std::cos(turn) <= r + 3 * step + 0.004) stack.push_back(i), seen[i] = true;
+    for (std::size_t k = 0; k < zone.size(); ++k)
+      if (handle[k] && zone[k].rho * std::cos(turn) <= r + 3 * step + 0.004) stack.push_back(zone_pixels[k]), seen[k] = 1;
     while (!stack.empty()) {
       const int i = stack.back();
       stack.pop_back();
@@ -447,9 +466,8 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
         for (int du = -1; du <= 1; ++du) {
           const int uu = u + du, vv = v + dv;
           if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
-          const int j = vv * W + uu;
-          const auto it = handle.find(j);
-          if (it != handle.end() && it->second && !seen[j]) seen[j] = true, stack.push_back(j);
+          const int j = vv * W + uu, k = zone_of(j);
+          if (k >= 0 && handle[std::size_t(k)] && !seen[std::size_t(k)]) seen[std::size_t(k)] = 1, stack.push_back(j);
         }
     }
     if (int(comp.size()) < kMinColourPixels) continue;
@@ -466,12 +484,12 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     }
     double tmin = INFINITY, tmax = -INFINITY, rmax = 0;
     for (int i : comp) {
-      const Zone& z = zone.at(i);
+      const Zone& z = zone[std::size_t(zone_of(i))];
       tmin = std::min(tmin, z.t), tmax = std::max(tmax, z.t), rmax = std::max(rmax, z.rho);
     }
     const double reach = rmax - r, span = tmax - tmin;
     std::size_t boxed = 0;
-    for (const auto& [i, z] : zone) boxed += z.t >= tmin && z.t <= tmax && z.rho <= rmax;
+    for (const Zone& z : zone) boxed += z.t >= tmin && z.t <= tmax && z.rho <= rmax;
     const double fill = double(comp.size()) / double(std::max<std::size_t>(1, boxed));
     if (reach < kMinReach || reach > kMaxReach || span < kMinSpan || span > kMaxSpan * cyl.height || fill < kMinFill ||
         fill > kMaxFill || comp.size() <= best_count)

@@ -61,9 +61,14 @@ struct Pixels {
   /// side `sign` (see orientation; 0 = either side). The sign keeps a mug's outer wall and its
   /// visible inner wall, a few millimetres apart but facing opposite ways, in different segments.
   bool fits(const Segment& s, int i, int sign = 0) const {
+    return s.visit([&](const auto& g) { return fits_shape(g, i, sign); });
+  }
+  /// fits() for one shape (a loop over many pixels dispatches on the segment's class once).
+  template <class Shape>
+  bool fits_shape(const Shape& g, int i, int sign = 0) const {
     const Eigen::Vector3d x = p(i);
     Eigen::Vector3d sn;
-    const double d = s.signed_distance(x, &sn);
+    const double d = g.signed_distance(x, &sn);
     const double c = sn.dot(n(i));
     return std::abs(d) <= eps(x.z()) && (sign == 0 ? std::abs(c) : sign * c) >= cos_dev;
   }

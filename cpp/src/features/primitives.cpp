@@ -60,20 +60,22 @@ std::vector<int> Pixels::component(const Segment& s, int seed, int step, const s
   if (++generation == 0) std::fill(seen.begin(), seen.end(), 0), generation = 1;
   std::vector<int> queue{start};
   seen[(sv / step) * gw + su / step] = generation;
-  for (std::size_t head = 0; head < queue.size() && out.size() < cap; ++head) {
-    const int i = queue[head];
-    out.push_back(i);
-    const int v = i / W, u = i % W;
-    const int nb[4][2] = {{v - step, u}, {v + step, u}, {v, u - step}, {v, u + step}};
-    for (const auto& q : nb) {
-      if (q[0] < 0 || q[0] >= H || q[1] < 0 || q[1] >= W) continue;
-      std::uint32_t& sn = seen[(q[0] / step) * gw + q[1] / step];
-      if (sn == generation) continue;
-      sn = generation;
-      const int j = q[0] * W + q[1];
-      if (free[j] && (!mask || mask[j]) && fits(s, j, sign)) queue.push_back(j);
+  s.visit([&](const auto& g) {  // (the class dispatched once, not per pixel)
+    for (std::size_t head = 0; head < queue.size() && out.size() < cap; ++head) {
+      const int i = queue[head];
+      out.push_back(i);
+      const int v = i / W, u = i % W;
+      const int nb[4][2] = {{v - step, u}, {v + step, u}, {v, u - step}, {v, u + step}};
+      for (const auto& q : nb) {
+        if (q[0] < 0 || q[0] >= H || q[1] < 0 || q[1] >= W) continue;
+        std::uint32_t& sn = seen[(q[0] / step) * gw + q[1] / step];
+        if (sn == generation) continue;
+        sn = generation;
+        const int j = q[0] * W + q[1];
+        if (free[j] && (!mask || mask[j]) && fits_shape(g, j, sign)) queue.push_back(j);
+      }
     }
-  }
+  });
   return out;
 }
 
@@ -181,10 +183,12 @@ std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int r
       // quick local score: how many of 24 random neighbours fit
       int hits = 0;
       const int sign = f.orientation(*s, seed);
-      for (int m = 0; m < 24; ++m) {
-        const int j = neighbour();
-        hits += j >= 0 && f.fits(*s, j, sign);
-      }
+      s->visit([&](const auto& g) {
+        for (int m = 0; m < 24; ++m) {
+          const int j = neighbour();
+          hits += j >= 0 && f.fits_shape(g, j, sign);
+        }
+      });
       if (hits < (c.thin() ? 5 : 8)) continue;
       per[t].push_back({*s, seed, double(hits)});
     }

@@ -355,6 +355,20 @@ TEST(Features, HandleTurnTellsAHandleFromARingTurnedAwayFromTheAxis) {
   }
 }
 
+/// The points of a handle's tube that a camera at the origin sees beside a body along y: the
+/// side of the tube facing it, beyond the body's wall, each moved by `jitter`.
+template <class Jitter>
+std::vector<Eigen::Vector3d> seen_handle(const Segment& handle, const shapes::Cylinder& B, Jitter&& jitter) {
+  std::vector<Eigen::Vector3d> out;
+  for (double a = -M_PI; a < M_PI; a += 0.05)
+    for (double b = -M_PI; b < M_PI; b += 0.4) {
+      auto [p, pn] = torus_point(handle, a, b);
+      const double from_axis = Eigen::Vector2d(p.x() - B.point.x(), p.z() - B.point.z()).norm();
+      if (pn.dot(-p.normalized()) > 0.1 && from_axis > B.radius + 0.002) out.push_back(jitter(p));
+    }
+  return out;
+}
+
 TEST(Features, APatchOfTheBodysOwnWallIsNoHandle) {
   // a body along -y at 0.8 m; points with 2 mm noise on the side of its wall facing the camera, and
   // on the outer arc of a handle's tube (ring radius 2.5 cm, tube 6 mm, attached to the wall)
@@ -368,12 +382,7 @@ TEST(Features, APatchOfTheBodysOwnWallIsNoHandle) {
     for (double y = -0.04; y <= 0.04; y += 0.005)
       wall.push_back(jitter({B.radius * std::sin(a), y, 0.8 - B.radius * std::cos(a)}));
   const Segment handle_torus = torus({0.061, 0.0, 0.8}, {0, 0, 1}, 0.025, 0.006);
-  for (double a = -M_PI; a < M_PI; a += 0.05)  // the tube's side facing the camera, beyond the wall
-    for (double b = -M_PI; b < M_PI; b += 0.4) {
-      auto [p, pn] = torus_point(handle_torus, a, b);
-      const double from_axis = Eigen::Vector2d(p.x() - B.point.x(), p.z() - B.point.z()).norm();
-      if (pn.dot(-p.normalized()) > 0.1 && from_axis > B.radius + 0.002) handle.push_back(jitter(p));
-    }
+  handle = seen_handle(handle_torus, B, jitter);
   const auto tolerance = [](double) { return 0.005; };
   // a torus fitted to the wall: centred inside the body (1 cm off the axis, as on the stereo
   // tapered cup of seed 5022), its points on the wall
@@ -410,12 +419,7 @@ TEST(Features, TheWiderRestOfATaperedWallIsNoHandle) {
   // a mug's handle on the same body (ring radius 2.5 cm, tube 6 mm, attached to the wall), its
   // side facing the camera beyond the wall
   const Segment handle_torus = torus({0.052, 0.0, 1.0}, {0, 0, 1}, 0.025, 0.006);
-  for (double a = -M_PI; a < M_PI; a += 0.05)
-    for (double b = -M_PI; b < M_PI; b += 0.4) {
-      auto [p, pn] = torus_point(handle_torus, a, b);
-      const double from_axis = Eigen::Vector2d(p.x() - B.point.x(), p.z() - B.point.z()).norm();
-      if (pn.dot(-p.normalized()) > 0.1 && from_axis > B.radius + 0.002) handle.push_back(jitter(p));
-    }
+  handle = seen_handle(handle_torus, B, jitter);
   const auto tolerance = [](double) { return 0.006; };
   EXPECT_TRUE(features::tapered_wall(B, lower, upper, tolerance));
   EXPECT_FALSE(features::tapered_wall(B, lower, handle, tolerance));

@@ -420,14 +420,18 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     }
     const int gw = u1 - u0 + 1;
     slot.assign(std::size_t(gw) * std::size_t(v1 - v0 + 1), -1);
-    const auto zone_of = [&](int i) {  // the pixel's index in `zone`, or -1
+    const auto cell = [&](int i) {  // the pixel's place in the grid, or -1 outside the box
       const int u = i % W, v = i / W;
-      return u < u0 || u > u1 || v < v0 || v > v1 ? -1 : slot[std::size_t((v - v0) * gw + (u - u0))];
+      return u < u0 || u > u1 || v < v0 || v > v1 ? -1 : (v - v0) * gw + (u - u0);
+    };
+    const auto zone_of = [&](int i) {  // the pixel's index in `zone`, or -1
+      const int g = cell(i);
+      return g < 0 ? -1 : slot[std::size_t(g)];
     };
     std::vector<int> zone_pixels;
     std::vector<Zone> zone;
     for (const auto& [i, z] : samples) {
-      int& k = slot[std::size_t((i / W - v0) * gw + (i % W - u0))];
+      int& k = slot[std::size_t(cell(i))];
       if (k < 0) k = int(zone.size()), zone_pixels.push_back(i), zone.push_back(z);
     }
     std::sort(background.begin(), background.end());

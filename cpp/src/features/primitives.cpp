@@ -644,17 +644,20 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
       }
       for (int i : grown[k]) f.free[i] = 1;
       auto found = find_in(f, torus, region, o, color, 1);
-      // a patch of the body's own wall is no handle (handle.hpp: wall_patch)
+      // a patch of the body's own wall, or the wider rest of a tapered one, is no handle
+      // (handle.hpp: wall_patch, tapered_wall)
+      const auto points_of = [&](const std::vector<int>& pixels) {
+        std::vector<Eigen::Vector3d> pts;
+        pts.reserve(pixels.size());
+        for (int i : pixels) pts.push_back(f.p(i));
+        return pts;
+      };
+      const auto eps = [&](double z) { return f.eps(z); };
       found.erase(std::remove_if(found.begin(), found.end(),
                                  [&](const Segment& t) {
-                                   std::vector<Eigen::Vector3d> pts;
-                                   pts.reserve(t.pixels.size());
-                                   for (int i : t.pixels) pts.push_back(f.p(i));
-                                   const auto eps = [&](double z) { return f.eps(z); };
-                                   std::vector<Eigen::Vector3d> wall;
-                                   wall.reserve(out[k].pixels.size());
-                                   for (int i : out[k].pixels) wall.push_back(f.p(i));
-                                   return wall_patch(*body, t, pts, eps) || tapered_wall(*body, wall, pts, eps);
+                                   const auto pts = points_of(t.pixels);
+                                   return wall_patch(*body, t, pts, eps) ||
+                                          tapered_wall(*body, points_of(out[k].pixels), pts, eps);
                                  }),
                   found.end());
       if (found.empty() && h.from_colour)

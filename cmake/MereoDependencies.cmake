@@ -3,7 +3,7 @@
 # MEREO_PRIVATE_LIBS: what the .cpp files need (PCL for PCD files, OpenCV, oneTBB, JSON, YAML).
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(TBB REQUIRED)
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs rgbd)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs rgbd ximgproc)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(yaml-cpp REQUIRED)  # graph files and object models (errors name the line)
 # PCL's config pulls in VTK, which wants MPI's C target.

@@ -1,9 +1,11 @@
-// The feature layer: RANSAC primitives of an organized cloud with normals.
+// The feature layer: RANSAC primitives of an organized cloud with normals; lines and arcs of the
+// colour image.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "mereo/features/edges.hpp"
 #include "mereo/features/primitives.hpp"
 #include "mereo/features/regions.hpp"
 #include "numpy_view.hpp"
@@ -17,6 +19,29 @@ void bind_features(py::module_& m) {
   namespace ft = mereo::features;
   pu::register_options<ft::DetectOptions>("DetectOptions");
   pu::register_options<ft::RegionOptions>("RegionOptions");
+  pu::register_options<ft::EdgePrimitiveOptions>("EdgePrimitiveOptions");
+  const std::string edges_doc = pu::takes_options(
+      m, "detect_edge_primitives", "EdgePrimitiveOptions",
+      "Lines and elliptical arcs of a frame's colour image (mereo.knowledge.Segment objects of class line and arc: "
+      "pixel coordinates, the colours on both sides, and where the depth allows the 3-D segment or circle; .pixels "
+      "holds each one's edge pixels). Also takes an (H, W, 3) uint8 colour array and an optional (H, W, 3) cloud.");
+  m.def("detect_edge_primitives",
+        [](const mereo::Frame& f, py::kwargs options) {
+          const auto o = pu::options_from_kwargs<ft::EdgePrimitiveOptions>("detect_edge_primitives", options);
+          py::gil_scoped_release release;
+          return ft::detect_edge_primitives(f, o);
+        },
+        py::arg("frame"), edges_doc.c_str());
+  m.def("detect_edge_primitives",
+        [](py::handle color, py::object cloud, py::kwargs options) {
+          const auto o = pu::options_from_kwargs<ft::EdgePrimitiveOptions>("detect_edge_primitives", options);
+          const auto c = from_numpy<std::uint8_t, 3>(color, "color");
+          mereo::Cloud xyz;
+          if (!cloud.is_none()) xyz = from_numpy<float, 3>(cloud, "cloud");
+          py::gil_scoped_release release;
+          return ft::fit_edge_primitives(mereo::signal::detect_edges(c, o.edges), c, xyz.empty() ? nullptr : &xyz, o);
+        },
+        py::arg("color"), py::arg("cloud") = py::none(), edges_doc.c_str());
   m.def("detect_primitives",
         [](py::handle cloud, py::handle normals, py::object roi, py::object color, py::object unfiltered,
            py::kwargs options) {

@@ -23,15 +23,22 @@ namespace pu = mereo::py_util;
 
 void bind_knowledge(py::module_& m) {
   using mereo::Segment;
-  // A field of the class (mereo/shapes/*.hpp) from Python: a number, a flag or a 3-vector.
+  // A field of the class (mereo/shapes/*.hpp) from Python: a number, a flag, a 3-vector or pixels.
   auto field_value = [](const std::string& name, const py::handle& v) -> mereo::shapes::FieldValue {
     if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
     if (py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v)) return v.cast<double>();
-    try {
-      return v.cast<Eigen::Vector3d>();
-    } catch (const py::cast_error&) {
-      throw mereo::InputError("Segment field '" + name + "': expected a number or three numbers");
+    if (py::hasattr(v, "__len__") && py::len(v) == 2) {  // pixels
+      try {
+        return v.cast<Eigen::Vector2d>();
+      } catch (const py::cast_error&) {
+      }
+    } else {
+      try {
+        return v.cast<Eigen::Vector3d>();
+      } catch (const py::cast_error&) {
+      }
     }
+    throw mereo::InputError("Segment field '" + name + "': expected a number, two numbers (pixels) or three");
   };
   auto make = [field_value](const std::string& cls, const py::dict& fields) {
     Segment s(mereo::primitive_class(cls).make());

@@ -1,7 +1,9 @@
-// The signal layer: per-image preprocessing (an edge-preserving depth filter).
+// The signal layer: per-image preprocessing (an edge-preserving depth filter, edge chains).
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include "mereo/signal/depth_filter.hpp"
+#include "mereo/signal/edges.hpp"
 #include "numpy_view.hpp"
 #include "options.hpp"
 
@@ -34,4 +36,29 @@ void bind_signal(py::module_& m) {
           return mereo::py_util::to_numpy(out);
         },
         py::arg("depth"), doc.c_str());
+  pu::register_options<sig::EdgeOptions>("EdgeOptions");
+  m.def("detect_edges",
+        [](py::handle color, py::kwargs options) {
+          const auto o = pu::options_from_kwargs<sig::EdgeOptions>("detect_edges", options);
+          const auto c = mereo::py_util::from_numpy<std::uint8_t, 3>(color, "color");
+          std::vector<sig::EdgeChain> chains;
+          {
+            py::gil_scoped_release release;
+            chains = sig::detect_edges(c, o);
+          }
+          py::list out;
+          for (const auto& ch : chains) {
+            py::array_t<float> a({py::ssize_t(ch.points.size()), py::ssize_t(2)});
+            auto w = a.mutable_unchecked<2>();
+            for (std::size_t k = 0; k < ch.points.size(); ++k) w(k, 0) = ch.points[k].x(), w(k, 1) = ch.points[k].y();
+            out.append(a);
+          }
+          return out;
+        },
+        py::arg("color"),
+        pu::takes_options(m, "detect_edges", "EdgeOptions",
+                          "The edge chains of an (H, W, 3) uint8 RGB image, longest first: a list of (N, 2) float32 "
+                          "arrays of (x, y) image coordinates, sub-pixel, in the order the points are connected (Edge "
+                          "Drawing, OpenCV ximgproc).")
+            .c_str());
 }

@@ -1,4 +1,4 @@
-"""The signal layer: per-image depth preprocessing with no outside knowledge."""
-from ._mereo.signal import filter_depth
+"""The signal layer: per-image preprocessing with no outside knowledge (depth filtering, edges)."""
+from ._mereo.signal import detect_edges, filter_depth
 
-__all__ = ["filter_depth"]
+__all__ = ["detect_edges", "filter_depth"]

@@ -10,6 +10,7 @@
 #include "mereo/core/options.hpp"
 #include "mereo/extension/normals.hpp"
 #include "mereo/extension/support_plane.hpp"
+#include "mereo/features/edges.hpp"
 #include "mereo/features/primitives.hpp"
 #include "mereo/features/regions.hpp"
 #include "mereo/matching/interpret.hpp"
@@ -239,6 +240,7 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   const auto specs = nodes::builtin_node_specs();
   expect_node_options_are<features::DetectOptions>(specs, "detect_primitives");
   expect_node_options_are<features::RegionOptions>(specs, "find_regions");
+  expect_node_options_are<features::EdgePrimitiveOptions>(specs, "detect_edges");
   expect_node_options_are<extension::NormalOptions>(specs, "estimate_normals");
   expect_node_options_are<extension::SupportPlaneOptions>(specs, "support_plane");
   expect_node_options_are<signal::DepthFilterOptions>(specs, "filter_depth");
@@ -251,7 +253,7 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   // and no other kind has options
   const std::set<std::string> checked{"detect_primitives", "estimate_normals", "support_plane", "filter_depth",
                                       "models",            "match_models",     "interpret",     "report",
-                                      "track_objects",     "odometry",         "find_regions"};
+                                      "track_objects",     "odometry",         "find_regions",  "detect_edges"};
   for (const auto& s : specs)
     if (!s.options.empty())
       EXPECT_TRUE(checked.count(s.kind)) << "node kind " << s.kind << " has options but no described options struct in this test";

@@ -11,6 +11,7 @@ F, E, S, K = mereo.features, mereo.extension, mereo.signal, mereo.knowledge
 #               the node's own options (not in the struct), options whose node default differs)
 NODES = {
     "detect_primitives": ("DetectOptions", F.detect_primitives, set(), set()),
+    "detect_edges": ("EdgePrimitiveOptions", F.detect_edge_primitives, set(), set()),
     "estimate_normals": ("NormalOptions", E.estimate_normals, set(), set()),
     "support_plane": ("SupportPlaneOptions", E.find_support_plane, set(), set()),
     "filter_depth": ("DepthFilterOptions", S.filter_depth, set(), set()),
@@ -84,6 +85,9 @@ def call(kind, scene, **options):
         return p.normal, p.d, p.inlier_count
     if kind == "filter_depth":
         return S.filter_depth(frame.depth, **options)
+    if kind == "detect_edges":
+        return [(s.cls, s.inliers, s.params.get("start_px", s.params.get("center_px")).tolist())
+                for s in F.detect_edge_primitives(frame, **options)]
     if kind == "match_models":
         segs = F.detect_primitives(cloud, normals, roi=plane.roi)
         lattice = K.recognize(K.load_models(), ["mug", "cup"], segs, **options)

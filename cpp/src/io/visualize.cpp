@@ -133,6 +133,12 @@ ColorImage draw_objects(const ColorImage& color, const Intrinsics& K, const std:
         if (line.size() == 2 && l.size() < 2) continue;  // a segment: both ends or nothing
         if (l.size() >= 2) cv::polylines(img, l, l.size() > 2, c, thick, cv::LINE_AA);
       }
+      for (const auto& line : outline.pixels) {  // a 2-D primitive, as seen
+        std::vector<cv::Point> l;
+        for (const auto& x : line) l.emplace_back(int(std::lround(x.x())), int(std::lround(x.y())));
+        if (l.size() >= 2) cv::polylines(img, l, false, c, thick, cv::LINE_AA);
+        if (!anchor && !l.empty()) anchor = l.front();
+      }
       if (outline.anchor && !anchor)
         if (auto p = project(K, *outline.anchor)) anchor = p;
     }

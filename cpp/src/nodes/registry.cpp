@@ -12,6 +12,7 @@ std::vector<graph::NodeSpec> builtin_node_specs() {
       estimate_normals_node(),
       support_plane_node(),
       detect_primitives_node(),
+      detect_edges_node(),
       find_regions_node(),
       models_node(),
       match_models_node(),

@@ -15,6 +15,7 @@ graph::NodeSpec filter_depth_node();
 graph::NodeSpec estimate_normals_node();
 graph::NodeSpec support_plane_node();
 graph::NodeSpec detect_primitives_node();
+graph::NodeSpec detect_edges_node();
 graph::NodeSpec find_regions_node();
 graph::NodeSpec models_node();
 graph::NodeSpec match_models_node();

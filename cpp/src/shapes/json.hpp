@@ -15,6 +15,7 @@ void fields_to_json(const FieldList& fields, Json& j) {
     std::visit([&, key = name](const auto& v) {
       using V = std::decay_t<decltype(v)>;
       if constexpr (std::is_same_v<V, Eigen::Vector3d>) j[key] = Json::array({v.x(), v.y(), v.z()});
+      else if constexpr (std::is_same_v<V, Eigen::Vector2d>) j[key] = Json::array({v.x(), v.y()});
       else j[key] = v;
     }, value);
 }

@@ -120,6 +120,10 @@ std::optional<Eigen::Vector3d> vector3(const FieldValue& v) {
   if (auto* d = std::get_if<Eigen::Vector3d>(&v)) return *d;
   return std::nullopt;
 }
+std::optional<Eigen::Vector2d> vector2(const FieldValue& v) {
+  if (auto* d = std::get_if<Eigen::Vector2d>(&v)) return *d;
+  return std::nullopt;
+}
 
 }  // namespace shapes
 }  // namespace mereo

@@ -3,10 +3,57 @@ RANSAC primitives of organized clouds (the feature layer).
 """
 from __future__ import annotations
 import collections.abc
+import mereo._mereo
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['detect_primitives', 'label_image']
+__all__: list[str] = ['detect_edge_primitives', 'detect_primitives', 'label_image']
+@typing.overload
+def detect_edge_primitives(frame: mereo._mereo.Frame, **kwargs) -> list[...]:
+    """
+    Lines and elliptical arcs of a frame's colour image (mereo.knowledge.Segment objects of class line and arc: pixel coordinates, the colours on both sides, and where the depth allows the 3-D segment or circle; .pixels holds each one's edge pixels). Also takes an (H, W, 3) uint8 colour array and an optional (H, W, 3) cloud.
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
+        anchor_threshold (int, default 8, 0..255): how much an anchor exceeds its neighbours
+        sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
+        min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels
+        subpixel (bool, default true): refine points to the gradient's sub-pixel peak across the edge
+        split_tolerance_px (float, default 1, 0.1..20): a straight piece's distance to its chord, px
+        min_line_px (float, default 15, 2..100000): shortest line, pixels
+        arc_tolerance_px (float, default 0.7, 0.05..20): RMS distance of an arc's points to its ellipse, px
+        max_arc_error_px (float, default 2, 0.1..50): largest distance of an arc's points to its ellipse, px
+        min_arc_span_deg (float, default 60, 1..360): least share of its ellipse an arc covers, degrees
+        max_turn_deg (float, default 60, 1..179): largest turn between an arc's consecutive pieces, degrees
+        min_minor_px (float, default 3, 0.5..10000): an arc's ellipse's least semi-axis, pixels
+        side_offset_px (float, default 3, 1..50): distance of the side colour samples from the edge, px
+        lift (bool, default true): fit 3-D lines and circles where the frame has depth
+        lift_window_px (int, default 2, 0..10): half-size of the window a pixel takes its depth from
+        lift_tolerance (float, default 0.01, 0.0001..1): RMS about a lifted fit, metres at 1 m (grows with z)
+    """
+@typing.overload
+def detect_edge_primitives(color: typing.Any, cloud: typing.Any = None, **kwargs) -> list[...]:
+    """
+    Lines and elliptical arcs of a frame's colour image (mereo.knowledge.Segment objects of class line and arc: pixel coordinates, the colours on both sides, and where the depth allows the 3-D segment or circle; .pixels holds each one's edge pixels). Also takes an (H, W, 3) uint8 colour array and an optional (H, W, 3) cloud.
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
+        anchor_threshold (int, default 8, 0..255): how much an anchor exceeds its neighbours
+        sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
+        min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels
+        subpixel (bool, default true): refine points to the gradient's sub-pixel peak across the edge
+        split_tolerance_px (float, default 1, 0.1..20): a straight piece's distance to its chord, px
+        min_line_px (float, default 15, 2..100000): shortest line, pixels
+        arc_tolerance_px (float, default 0.7, 0.05..20): RMS distance of an arc's points to its ellipse, px
+        max_arc_error_px (float, default 2, 0.1..50): largest distance of an arc's points to its ellipse, px
+        min_arc_span_deg (float, default 60, 1..360): least share of its ellipse an arc covers, degrees
+        max_turn_deg (float, default 60, 1..179): largest turn between an arc's consecutive pieces, degrees
+        min_minor_px (float, default 3, 0.5..10000): an arc's ellipse's least semi-axis, pixels
+        side_offset_px (float, default 3, 1..50): distance of the side colour samples from the edge, px
+        lift (bool, default true): fit 3-D lines and circles where the frame has depth
+        lift_window_px (int, default 2, 0..10): half-size of the window a pixel takes its depth from
+        lift_tolerance (float, default 0.01, 0.0001..1): RMS about a lifted fit, metres at 1 m (grows with z)
+    """
 def detect_primitives(cloud: typing.Any, normals: typing.Any, roi: typing.Any = None, color: typing.Any = None, unfiltered: typing.Any = None, **kwargs) -> list[...]:
     """
     Planes, cylinders, spheres and tori of an (H, W, 3) cloud with (H, W, 3) normals, largest first (mereo.knowledge.Segment objects; .pixels holds each one's inlier pixel indices). `roi`: an (H, W) mask of the pixels to use. `unfiltered`: the (H, W, 3) points of the unfiltered depth when the cloud's was filtered; cylinders and spheres are then measured on them (smoothing flattens curved surfaces).

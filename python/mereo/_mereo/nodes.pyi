@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'find_regions', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'detect_edges', 'find_regions', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -12,6 +12,33 @@ def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
         frame (Frame): an RGB-D frame
     Outputs:
         cloud (Cloud): H x W x 3 points
+    """
+def detect_edges(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    Lines and elliptical arcs of the frame's colour image, with their side colours; 3-D where the cloud has depth.
+    
+    Inputs:
+        frame (Frame): a frame with a colour image
+        cloud (Cloud, optional): its organized cloud: the lines and arcs are lifted to 3-D
+    Outputs:
+        segments (Segments): arcs, then lines (classes arc and line)
+    Options:
+        gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
+        anchor_threshold (int, default 8, 0..255): how much an anchor exceeds its neighbours
+        sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
+        min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels
+        subpixel (bool, default true): refine points to the gradient's sub-pixel peak across the edge
+        split_tolerance_px (float, default 1, 0.1..20): a straight piece's distance to its chord, px
+        min_line_px (float, default 15, 2..100000): shortest line, pixels
+        arc_tolerance_px (float, default 0.7, 0.05..20): RMS distance of an arc's points to its ellipse, px
+        max_arc_error_px (float, default 2, 0.1..50): largest distance of an arc's points to its ellipse, px
+        min_arc_span_deg (float, default 60, 1..360): least share of its ellipse an arc covers, degrees
+        max_turn_deg (float, default 60, 1..179): largest turn between an arc's consecutive pieces, degrees
+        min_minor_px (float, default 3, 0.5..10000): an arc's ellipse's least semi-axis, pixels
+        side_offset_px (float, default 3, 1..50): distance of the side colour samples from the edge, px
+        lift (bool, default true): fit 3-D lines and circles where the frame has depth
+        lift_window_px (int, default 2, 0..10): half-size of the window a pixel takes its depth from
+        lift_tolerance (float, default 0.01, 0.0001..1): RMS about a lifted fit, metres at 1 m (grows with z)
     """
 def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
     """

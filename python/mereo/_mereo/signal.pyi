@@ -4,7 +4,18 @@ Per-image depth preprocessing (the signal layer).
 from __future__ import annotations
 import mereo._mereo
 import typing
-__all__: list[str] = ['filter_depth']
+__all__: list[str] = ['detect_edges', 'filter_depth']
+def detect_edges(color: typing.Any, **kwargs) -> list:
+    """
+    The edge chains of an (H, W, 3) uint8 RGB image, longest first: a list of (N, 2) float32 arrays of (x, y) image coordinates, sub-pixel, in the order the points are connected (Edge Drawing, OpenCV ximgproc).
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
+        anchor_threshold (int, default 8, 0..255): how much an anchor exceeds its neighbours
+        sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
+        min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels
+        subpixel (bool, default true): refine points to the gradient's sub-pixel peak across the edge
+    """
 @typing.overload
 def filter_depth(frame: mereo._mereo.Frame, **kwargs) -> mereo._mereo.Frame:
     """

@@ -109,6 +109,14 @@ void assign(T& o, const Field<T>& f, const FieldValue& v) {
   }
 }
 
+/// Throws InputError naming the option when a field of `o` is out of its range or choices (for
+/// options set in C++, which no node or Python function checked).
+template <class T>
+void check_options(const T& o, const Fields<T>& fields = T::fields()) {
+  T copy = o;
+  for (const auto& f : fields) assign(copy, f, f.get(o));
+}
+
 /// The names of the fields, comma-separated (for error messages).
 template <class T>
 std::string field_names(const Fields<T>& fields) {

@@ -70,13 +70,16 @@ struct Limits {
   double max_major_radius = 0.08;  ///< torus ring radius
 };
 
-/// A field of the JSON output and of Python's Segment: a number, a flag or a 3-vector.
-using FieldValue = std::variant<double, bool, Eigen::Vector3d>;
+/// A field of the JSON output and of Python's Segment: a number, a flag, a 3-vector (metres, a
+/// direction, a colour) or a 2-vector (pixels: a 2-D primitive's image coordinates).
+using FieldValue = std::variant<double, bool, Eigen::Vector3d, Eigen::Vector2d>;
 using FieldList = std::vector<std::pair<const char*, FieldValue>>;
 
-/// Polylines to draw (camera frame) and where a label may go.
+/// Polylines to draw (camera frame; `pixels`: in image coordinates, a 2-D primitive's) and where
+/// a label may go.
 struct Outline {
   std::vector<std::vector<Eigen::Vector3d>> lines;
+  std::vector<std::vector<Eigen::Vector2d>> pixels;
   std::optional<Eigen::Vector3d> anchor;
 };
 
@@ -125,14 +128,24 @@ struct Undetected {
   void canonical() {}
 };
 
+/// What a 2-D primitive (an edge's line or arc, features/edges.hpp) shows across it: the mean
+/// colours of its two sides (RGB in [0, 1], sampled a few pixels off the edge; a line's left and
+/// right walking from its start to its end in the image, an arc's inside and outside).
+struct EdgeSides {
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
+  /// The colour difference across the edge, 0 .. sqrt(3).
+  double contrast() const { return (a - b).norm(); }
+};
+
 /// Whether shape S generalizes another (S::Refines, S::refined_from; see above).
 template <class S, class = void>
 struct has_refines : std::false_type {};
 template <class S>
 struct has_refines<S, std::void_t<typename S::Refines>> : std::true_type {};
 
-/// The value of a field as a number / vector; nullopt for the other kind.
+/// The value of a field as a number / vector; nullopt for the other kinds.
 std::optional<double> number(const FieldValue& v);
 std::optional<Eigen::Vector3d> vector3(const FieldValue& v);
+std::optional<Eigen::Vector2d> vector2(const FieldValue& v);
 
 }  // namespace mereo::shapes

@@ -1,0 +1,202 @@
+// Tests of the edge modality's signal and feature layers (signal/edges.hpp, features/edges.hpp):
+// lines and elliptical arcs against shapes drawn with known parameters, the outlines of rendered
+// objects against the renderer's label image, and lifted rims against the rendered mugs.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "../bench/eval_edges.hpp"
+#include "mereo/core/error.hpp"
+#include "mereo/extension/projection.hpp"
+#include "mereo/features/edges.hpp"
+#include "mereo/signal/edges.hpp"
+#include "mereo/synthetic/scene.hpp"
+
+namespace {
+
+using mereo::ColorImage;
+using mereo::Segment;
+namespace sh = mereo::shapes;
+
+/// A 640 x 480 grey-on-white drawing (noise of 4 grey levels) of what `draw` paints.
+template <class Draw>
+ColorImage drawing(Draw draw) {
+  cv::Mat img(480, 640, CV_8UC3, cv::Scalar(200, 200, 200));
+  draw(img);
+  cv::Mat noise(img.size(), CV_16SC3);
+  cv::randn(noise, 0, 4);
+  cv::Mat out;
+  img.convertTo(out, CV_16SC3);
+  out += noise;
+  out.convertTo(img, CV_8UC3);
+  ColorImage c(480, 640);
+  std::copy(img.data, img.data + img.total() * 3, c.data());
+  return c;
+}
+
+std::vector<Segment> primitives(const ColorImage& c, const mereo::Cloud* cloud = nullptr) {
+  return mereo::features::fit_edge_primitives(mereo::signal::detect_edges(c), c, cloud);
+}
+
+/// The arc whose ellipse centre lies nearest `centre`; null when there is none.
+const sh::Arc* arc_near(const std::vector<Segment>& s, const Eigen::Vector2d& centre) {
+  const sh::Arc* best = nullptr;
+  for (const auto& x : s)
+    if (const auto* a = x.get_if<sh::Arc>())
+      if (!best || (a->center_px - centre).norm() < (best->center_px - centre).norm()) best = a;
+  return best;
+}
+
+/// Distance of point q to the segment a-b.
+double to_segment(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d d = b - a;
+  const double t = std::clamp(d.dot(q - a) / d.squaredNorm(), 0.0, 1.0);
+  return (a + t * d - q).norm();
+}
+
+TEST(Edges, AnEllipseAndARectangleDrawnAreAnArcAndFourLines) {
+  const ColorImage c = drawing([](cv::Mat& img) {
+    cv::ellipse(img, cv::Point(420, 250), cv::Size(110, 60), 25, 0, 360, cv::Scalar(60, 90, 160), cv::FILLED, cv::LINE_AA);
+    cv::rectangle(img, cv::Point(60, 80), cv::Point(220, 300), cv::Scalar(40, 40, 40), cv::FILLED);
+  });
+  const auto s = primitives(c);
+  const sh::Arc* a = arc_near(s, {420, 250});
+  ASSERT_NE(a, nullptr);
+  EXPECT_NEAR(a->center_px.x(), 420, 1.0);
+  EXPECT_NEAR(a->center_px.y(), 250, 1.0);
+  EXPECT_NEAR(a->axes_px.x(), 110, 1.5);  // the edge lies half a pixel outside cv::ellipse's axes at most
+  EXPECT_NEAR(a->axes_px.y(), 60, 1.5);
+  EXPECT_NEAR(a->angle_deg, 25, 2.0);
+  EXPECT_GT(a->span_deg(), 300);
+  EXPECT_FALSE(a->lifted);
+  // inside the ellipse is its colour, outside the background's
+  EXPECT_NEAR(a->sides.a.x(), 60 / 255.0, 0.05);
+  EXPECT_NEAR(a->sides.b.x(), 200 / 255.0, 0.05);
+
+  // each side of the rectangle is one line along it, covering most of it
+  const Eigen::Vector2d corner[4] = {{60, 80}, {220, 80}, {220, 300}, {60, 300}};
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d p = corner[k], q = corner[(k + 1) % 4];
+    double covered = 0;
+    for (const auto& x : s)
+      if (const auto* l = x.get_if<sh::Line>())
+        if (to_segment(l->start_px, p, q) < 1.5 && to_segment(l->end_px, p, q) < 1.5) covered += l->length_px();
+    EXPECT_GT(covered, 0.8 * (q - p).norm()) << "side " << k;
+  }
+  // and nothing else is there: no line off the rectangle, no other arc of any size
+  for (const auto& x : s)
+    if (const auto* l = x.get_if<sh::Line>()) {
+      double off = 1e9;
+      for (int k = 0; k < 4; ++k) off = std::min(off, to_segment(l->start_px, corner[k], corner[(k + 1) % 4]));
+      EXPECT_LT(off, 2.0) << "a line from " << l->start_px.transpose() << " to " << l->end_px.transpose();
+    } else if (const auto* b = x.get_if<sh::Arc>()) {
+      EXPECT_EQ(b, a) << "an arc about " << b->center_px.transpose();
+    }
+}
+
+TEST(Edges, APartlyHiddenDiscIsAnArcOfWhatIsSeen) {
+  // a disc of radius 70 whose right half a box hides: its edge is a half circle
+  const ColorImage c = drawing([](cv::Mat& img) {
+    cv::circle(img, cv::Point(300, 240), 70, cv::Scalar(150, 40, 40), cv::FILLED, cv::LINE_AA);
+    cv::rectangle(img, cv::Point(300, 100), cv::Point(500, 380), cv::Scalar(90, 160, 90), cv::FILLED);
+  });
+  const sh::Arc* a = arc_near(primitives(c), {300, 240});
+  ASSERT_NE(a, nullptr);
+  EXPECT_NEAR(a->center_px.x(), 300, 1.5);
+  EXPECT_NEAR(a->center_px.y(), 240, 1.5);
+  // a half circle holds its ellipse less firmly than a whole one, and its ends meet the box's edge
+  EXPECT_NEAR(a->axes_px.x(), 70.5, 2.0);
+  EXPECT_NEAR(a->axes_px.y(), 70.5, 2.0);
+  EXPECT_NEAR(a->span_deg(), 180, 12);
+  // the arc's middle is the disc's leftmost point
+  const Eigen::Vector2d mid = a->at((a->start_deg + a->end_deg) / 2);
+  EXPECT_NEAR(mid.x(), 230, 3);
+  EXPECT_NEAR(mid.y(), 240, 3);
+}
+
+/// What the edge primitives' pixels reach of the outlines of a rendered frame's objects (not of
+/// the table, floor or walls), within 2 pixels.
+double outline_recall(const mereo::synthetic::SyntheticFrame& f, const std::vector<Segment>& s, std::size_t* count) {
+  const auto truth = mereo::bench::outline_pixels(f.truth.objects, f.frame.color, [&](std::uint32_t l) {
+    const auto* o = f.truth.object(l);
+    return o && o->model != "table" && o->model != "floor" && o->model != "wall";
+  });
+  *count = truth.size();
+  cv::Mat hit(f.frame.rows(), f.frame.cols(), CV_8U, cv::Scalar(0));
+  for (const auto& x : s)
+    for (int i : x.pixels) hit.at<std::uint8_t>(i / hit.cols, i % hit.cols) = 255;
+  return mereo::bench::outline_recall(truth, hit, 2);
+}
+
+TEST(Edges, LinesAndArcsTraceTheOutlinesOfRenderedObjects) {
+  // (the colour image is the same under both depth models: the handle shapes vary instead)
+  for (auto handles : {mereo::synthetic::HandleShapes::Torus, mereo::synthetic::HandleShapes::Varied}) {
+    mereo::synthetic::SceneOptions so;
+    so.handle_shapes = handles;
+    double sum = 0;
+    int n = 0;
+    for (std::uint64_t seed : {9101u, 9102u, 9103u, 9104u}) {
+      const auto f = mereo::synthetic::render(seed, so);
+      std::size_t count = 0;
+      const double r = outline_recall(f, mereo::features::detect_edge_primitives(f.frame), &count);
+      ASSERT_GT(count, 500u);
+      std::cout << "seed " << seed << ": " << count << " outline pixels, recall " << r << "\n";
+      sum += r, ++n;
+    }
+    EXPECT_GT(sum / n, 0.75);
+  }
+}
+
+TEST(Edges, TheLiftedRimOfARenderedMugHasTheMugsRadius) {
+  // the arc on a mug's rim (most of its pixels within 2 pixels of the rim's), lifted to 3-D, is a
+  // circle of the body's radius about its axis (the rim is 3-5 mm wide: its inner edge counts too)
+  int checked = 0;
+  for (std::uint64_t seed = 9110; seed < 9120; ++seed) {
+    const auto f = mereo::synthetic::render(seed);
+    const auto s = mereo::features::detect_edge_primitives(f.frame);
+    for (const auto& o : f.truth.objects_truth) {
+      const auto* rim = o.part("rim");
+      if (o.model != "mug" || !rim || rim->visible_pixels < 150) continue;
+      cv::Mat on(f.frame.rows(), f.frame.cols(), CV_8U, cv::Scalar(0));
+      for (std::size_t i = 0; i < on.total(); ++i) on.data[i] = f.truth.parts.data()[i] == rim->label;
+      cv::dilate(on, on, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)));
+      const sh::Arc* best = nullptr;
+      std::size_t most = 0;
+      for (const auto& x : s)
+        if (const auto* a = x.get_if<sh::Arc>(); a && a->lifted && x.pixels.size() >= 30) {
+          std::size_t n = 0;
+          for (int i : x.pixels) n += on.data[i];
+          if (n >= 0.6 * x.pixels.size() && n > most) best = a, most = n;
+        }
+      if (!best) continue;
+      ++checked;
+      const double R = rim->camera.radius;
+      EXPECT_NEAR(best->radius, R - 0.002, 0.15 * R) << "seed " << seed;
+      EXPECT_GT(std::abs(best->normal.dot(rim->camera.axis.normalized())), std::cos(20 * M_PI / 180)) << "seed " << seed;
+      EXPECT_LT((best->center - rim->camera.point).norm(), 0.3 * R) << "seed " << seed;
+    }
+  }
+  std::cout << checked << " rims checked\n";
+  EXPECT_GE(checked, 4);
+}
+
+TEST(Edges, BadInputIsAClearError) {
+  EXPECT_THROW(mereo::signal::detect_edges(ColorImage()), mereo::InputError);
+  mereo::signal::EdgeOptions o;
+  o.sigma = 0;
+  EXPECT_THROW(mereo::signal::detect_edges(ColorImage(10, 10), o), mereo::InputError);
+  const ColorImage c(48, 64, 128);
+  const mereo::Cloud wrong(10, 10);
+  EXPECT_THROW(mereo::features::fit_edge_primitives({}, c, &wrong), mereo::InputError);
+  mereo::Frame f;
+  f.depth = mereo::DepthImage(48, 64);
+  EXPECT_THROW(mereo::features::detect_edge_primitives(f), mereo::InputError);
+  // a blank image has no edges: an empty result, no error
+  EXPECT_TRUE(primitives(c).empty());
+}
+
+}  // namespace

@@ -38,9 +38,19 @@ ColorImage drawing(Draw draw) {
   return c;
 }
 
-std::vector<Segment> primitives(const ColorImage& c, const mereo::Cloud* cloud = nullptr) {
-  return mereo::features::fit_edge_primitives(mereo::signal::detect_edges(c), c, cloud);
+std::vector<Segment> primitives(const ColorImage& c, mereo::signal::EdgeMethod method = mereo::signal::EdgeMethod::Canny) {
+  mereo::signal::EdgeOptions o;
+  o.method = method;
+  return mereo::features::fit_edge_primitives(mereo::signal::detect_edges(c, o), c, nullptr);
 }
+
+/// Both sources of edge chains (signal/edges.hpp), for the tests of drawn shapes.
+class EdgesOfDrawings : public ::testing::TestWithParam<mereo::signal::EdgeMethod> {};
+INSTANTIATE_TEST_SUITE_P(Chains, EdgesOfDrawings,
+                         ::testing::Values(mereo::signal::EdgeMethod::Canny, mereo::signal::EdgeMethod::EdgeDrawing),
+                         [](const auto& info) {
+                           return info.param == mereo::signal::EdgeMethod::Canny ? "Canny" : "EdgeDrawing";
+                         });
 
 /// The arc whose ellipse centre lies nearest `centre`; null when there is none.
 const sh::Arc* arc_near(const std::vector<Segment>& s, const Eigen::Vector2d& centre) {
@@ -58,12 +68,12 @@ double to_segment(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eige
   return (a + t * d - q).norm();
 }
 
-TEST(Edges, AnEllipseAndARectangleDrawnAreAnArcAndFourLines) {
+TEST_P(EdgesOfDrawings, AnEllipseAndARectangleAreAnArcAndFourLines) {
   const ColorImage c = drawing([](cv::Mat& img) {
     cv::ellipse(img, cv::Point(420, 250), cv::Size(110, 60), 25, 0, 360, cv::Scalar(60, 90, 160), cv::FILLED, cv::LINE_AA);
     cv::rectangle(img, cv::Point(60, 80), cv::Point(220, 300), cv::Scalar(40, 40, 40), cv::FILLED);
   });
-  const auto s = primitives(c);
+  const auto s = primitives(c, GetParam());
   const sh::Arc* a = arc_near(s, {420, 250});
   ASSERT_NE(a, nullptr);
   EXPECT_NEAR(a->center_px.x(), 420, 1.0);
@@ -98,13 +108,14 @@ TEST(Edges, AnEllipseAndARectangleDrawnAreAnArcAndFourLines) {
     }
 }
 
-TEST(Edges, APartlyHiddenDiscIsAnArcOfWhatIsSeen) {
+TEST_P(EdgesOfDrawings, APartlyHiddenDiscIsAnArcOfWhatIsSeen) {
   // a disc of radius 70 whose right half a box hides: its edge is a half circle
   const ColorImage c = drawing([](cv::Mat& img) {
     cv::circle(img, cv::Point(300, 240), 70, cv::Scalar(150, 40, 40), cv::FILLED, cv::LINE_AA);
     cv::rectangle(img, cv::Point(300, 100), cv::Point(500, 380), cv::Scalar(90, 160, 90), cv::FILLED);
   });
-  const sh::Arc* a = arc_near(primitives(c), {300, 240});
+  const auto s = primitives(c, GetParam());
+  const sh::Arc* a = arc_near(s, {300, 240});
   ASSERT_NE(a, nullptr);
   EXPECT_NEAR(a->center_px.x(), 300, 1.5);
   EXPECT_NEAR(a->center_px.y(), 240, 1.5);

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <opencv2/imgproc.hpp>
 
 #include "features/pixels.hpp"
 #include "mereo/core/error.hpp"
@@ -92,11 +94,30 @@ std::optional<shapes::Arc> direct_ellipse(const ConicScatter& c) {
   const Eigen::Matrix3d M = S1 + S2 * T;
   Eigen::Matrix3d N;  // the constraint's inverse applied: C1^-1 M
   N.row(0) = M.row(2) / 2, N.row(1) = -M.row(1), N.row(2) = M.row(0) / 2;
-  Eigen::EigenSolver<Eigen::Matrix3d> es(N);
+  // its real eigenvalues from the characteristic cubic (closed form: this runs once per growth
+  // step of every arc), each one's eigenvector from two rows of N - lambda I; the ellipse's is the
+  // one with 4AC - B^2 > 0
+  const double tr = N.trace(), dn = N.determinant();
+  const double minors = N(0, 0) * N(1, 1) - N(0, 1) * N(1, 0) + N(0, 0) * N(2, 2) - N(0, 2) * N(2, 0) +
+                        N(1, 1) * N(2, 2) - N(1, 2) * N(2, 1);
+  const double a = -tr, b = minors, cc = -dn;  // lambda^3 + a lambda^2 + b lambda + cc = 0
+  const double Q = (a * a - 3 * b) / 9, R = (2 * a * a * a - 9 * a * b + 27 * cc) / 54;
+  double roots[3];
+  int n_roots = 0;
+  if (R * R < Q * Q * Q) {
+    const double th = std::acos(std::clamp(R / std::sqrt(Q * Q * Q), -1.0, 1.0));
+    for (int k = 0; k < 3; ++k) roots[n_roots++] = -2 * std::sqrt(Q) * std::cos((th + 2 * M_PI * k) / 3) - a / 3;
+  } else {
+    const double A = -std::copysign(std::cbrt(std::abs(R) + std::sqrt(R * R - Q * Q * Q)), R);
+    roots[n_roots++] = A + (A != 0 ? Q / A : 0) - a / 3;
+  }
   std::optional<Eigen::Vector3d> a1;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d v = es.eigenvectors().col(k).real();
-    if (4 * v(0) * v(2) - v(1) * v(1) > 0) a1 = v;
+  for (int k = 0; k < n_roots && !a1; ++k) {
+    const Eigen::Matrix3d L = N - roots[k] * Eigen::Matrix3d::Identity();
+    Eigen::Vector3d v = L.row(0).cross(L.row(1)).transpose();
+    for (const Eigen::Vector3d w : {Eigen::Vector3d(L.row(0).cross(L.row(2))), Eigen::Vector3d(L.row(1).cross(L.row(2)))})
+      if (w.squaredNorm() > v.squaredNorm()) v = w;
+    if (v.squaredNorm() > 0 && 4 * v(0) * v(2) - v(1) * v(1) > 0) a1 = v.normalized();
   }
   if (!a1) return std::nullopt;
   const Eigen::Vector3d a2 = T * *a1;
@@ -180,12 +201,45 @@ std::optional<Eigen::Vector3d> nearest_point(const Cloud& cloud, const Pt& q, in
   return Eigen::Vector3d(best[0], best[1], best[2]);
 }
 
-/// Points of chain i..j lifted to 3-D; empty when fewer than half of them have depth.
-std::vector<Eigen::Vector3d> lifted_points(const std::vector<Pt>& p, int i, int j, const Cloud& cloud, int w) {
+/// An edge pixel's 3-D point: the nearest depth within `w` pixels (the occluding side of a depth
+/// edge, from a min filter of the depth), on the pixel's own ray; the nearest point itself where
+/// the pixel has none.
+class Lifter {
+ public:
+  Lifter(const Cloud& cloud, int w) : cloud_(cloud), w_(w) {
+    cv::Mat z(cloud.rows(), cloud.cols(), CV_32F);
+    for (int v = 0; v < cloud.rows(); ++v)
+      for (int u = 0; u < cloud.cols(); ++u) {
+        const float* p = cloud.ptr(v, u);
+        z.at<float>(v, u) = valid_point(p) ? p[2] : std::numeric_limits<float>::infinity();
+      }
+    cv::erode(z, near_, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * w + 1, 2 * w + 1)));
+  }
+  std::optional<Eigen::Vector3d> operator()(const Pt& q) const {
+    const int u = std::clamp(int(std::lround(q.x())), 0, cloud_.cols() - 1);
+    const int v = std::clamp(int(std::lround(q.y())), 0, cloud_.rows() - 1);
+    const float zn = near_.at<float>(v, u);
+    if (!std::isfinite(zn)) return std::nullopt;
+    const float* p = cloud_.ptr(v, u);
+    if (valid_point(p)) return Eigen::Vector3d(p[0], p[1], p[2]) * (double(zn) / p[2]);
+    return nearest_point(cloud_, q, w_);
+  }
+
+ private:
+  const Cloud& cloud_;
+  int w_;
+  cv::Mat near_;
+};
+
+/// Points of chain i..j lifted to 3-D (at most about 64, evenly spaced: enough for a line or a
+/// circle); empty when fewer than half of those tried have depth.
+std::vector<Eigen::Vector3d> lifted_points(const std::vector<Pt>& p, int i, int j, const Lifter& lift) {
   std::vector<Eigen::Vector3d> out;
-  for (int k = i; k <= j; ++k)
-    if (auto x = nearest_point(cloud, p[k], w)) out.push_back(*x);
-  if (2 * out.size() < std::size_t(j - i + 1)) out.clear();
+  const int step = std::max(1, (j - i + 1) / 64);
+  int tried = 0;
+  for (int k = i; k <= j; k += step, ++tried)
+    if (auto x = lift(p[k])) out.push_back(*x);
+  if (2 * int(out.size()) < tried) out.clear();
   return out;
 }
 
@@ -308,6 +362,8 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
   if (cloud && !cloud->empty() && (cloud->rows() != color.rows() || cloud->cols() != color.cols()))
     throw InputError("fit_edge_primitives: the cloud and the colour image differ in size");
   const bool lift = o.lift && cloud && !cloud->empty();
+  std::optional<Lifter> lifter;
+  if (lift) lifter.emplace(*cloud, o.lift_window_px);
   const int W = color.cols(), H = color.rows();
   const double max_axis = 2.0 * std::max(W, H);
   std::vector<Segment> arcs, lines;
@@ -318,15 +374,15 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
     if (points->size() < 2) continue;
     std::vector<int> cut = split_points(*points, o.split_tolerance_px);
     if (const auto& q = *points; cut.size() > 3 && (q.front() - q.back()).norm() <= 2) {
-      // a closed chain starts where Edge Drawing happened to start it, maybe inside an arc:
-      // start it at its sharpest corner instead, so that no arc is cut in two
+      // a closed chain starts where its walk happened to start, maybe inside an arc: start it at
+      // its sharpest corner instead, so that no arc is cut in two (a smooth ring stays as it is)
       auto turn_of = [&](std::size_t v) {  // at vertex cut[v]; vertex 0 between the last piece and the first
         return std::abs(v == 0 ? turn(q[cut[cut.size() - 2]], q[0], q[cut[1]]) : turn(q[cut[v - 1]], q[cut[v]], q[cut[v + 1]]));
       };
       std::size_t sharpest = 0;
       for (std::size_t v = 1; v + 1 < cut.size(); ++v)
         if (turn_of(v) > turn_of(sharpest)) sharpest = v;
-      if (sharpest > 0) {
+      if (sharpest > 0 && turn_of(sharpest) > o.max_turn_deg * kDeg) {
         rotated.assign(q.begin() + cut[sharpest], q.end() - 1);
         rotated.insert(rotated.end(), q.begin(), q.begin() + cut[sharpest] + 1);
         points = &rotated;
@@ -394,7 +450,7 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
         }
         a.sides = sides_of(color, samples, o.side_offset_px);
         Segment s{Geometry(a)};
-        if (lift) lift_arc(s.as<shapes::Arc>(), lifted_points(p, i, j, *cloud, o.lift_window_px), o.lift_tolerance, s.residual);
+        if (lift) lift_arc(s.as<shapes::Arc>(), lifted_points(p, i, j, *lifter), o.lift_tolerance, s.residual);
         s.pixels = pixels_of(p, i, j, W, H);
         s.inliers = s.pixels.size();
         detail::set_color(s, &color);
@@ -422,7 +478,7 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
       for (double t = 0; t <= len; t += 2) samples.push_back({l.start_px + d * t, left});
       l.sides = sides_of(color, samples, o.side_offset_px);
       Segment s{Geometry(l)};
-      if (lift) lift_line(s.as<shapes::Line>(), lifted_points(p, i, j, *cloud, o.lift_window_px), o.lift_tolerance, s.residual);
+      if (lift) lift_line(s.as<shapes::Line>(), lifted_points(p, i, j, *lifter), o.lift_tolerance, s.residual);
       s.pixels = pixels_of(p, i, j, W, H);
       s.inliers = s.pixels.size();
       detail::set_color(s, &color);

@@ -1,6 +1,7 @@
 #include "mereo/signal/edges.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <opencv2/core.hpp>
@@ -19,6 +20,89 @@ float parabola_peak(float a, float b, float c) {
   return den < 0 ? std::clamp(0.5f * (a - c) / den, -0.5f, 0.5f) : 0.f;
 }
 
+/// Chains of the thin edge pixels (non-zero) of `edges`: walks from each end (a pixel with one
+/// neighbour), then from what is left (closed outlines); each step goes on to the unvisited
+/// 8-neighbour that turns least from the last step (a 4-neighbour on a tie: staircases keep
+/// their corner pixels). A junction ends no walk: the straightest branch goes on, the others
+/// are chains of their own.
+std::vector<std::vector<cv::Point>> link_edges(cv::Mat& edges, int min_length) {
+  static const int dx[8] = {1, 0, -1, 0, 1, -1, -1, 1}, dy[8] = {0, 1, 0, -1, 1, 1, -1, -1};
+  static const auto turns = [] {  // eighths of a full turn (0..4) from step a to step b
+    std::array<std::array<int, 8>, 8> t{};
+    for (int a = 0; a < 8; ++a)
+      for (int b = 0; b < 8; ++b) {
+        const double d = std::remainder(std::atan2(dy[b], dx[b]) - std::atan2(dy[a], dx[a]), 2 * M_PI);
+        t[a][b] = int(std::lround(std::abs(d) / (M_PI / 4)));
+      }
+    return t;
+  }();
+  const int W = edges.cols, H = edges.rows;
+  auto at = [&](int x, int y) { return x >= 0 && y >= 0 && x < W && y < H ? edges.at<std::uint8_t>(y, x) : 0; };
+  constexpr std::uint8_t kEdge = 255, kVisited = 128;
+  auto walk = [&](cv::Point p, int last, std::vector<cv::Point>& chain) {  // last: the step that led here, -1: none
+    for (;;) {
+      int best = -1, best_turn = 99;
+      for (int k = 0; k < 8; ++k)
+        if (at(p.x + dx[k], p.y + dy[k]) == kEdge) {
+          const int turn = last < 0 ? 0 : turns[last][k];
+          if (turn < best_turn) best = k, best_turn = turn;  // 4-neighbours first on a tie
+        }
+      if (best < 0 || best_turn > 2) return;  // an end, or a turn back of more than 90 degrees
+      p += cv::Point(dx[best], dy[best]);
+      edges.at<std::uint8_t>(p.y, p.x) = kVisited;
+      chain.push_back(p);
+      last = best;
+    }
+  };
+  auto neighbours = [&](int x, int y) {
+    int n = 0;
+    for (int k = 0; k < 8; ++k) n += at(x + dx[k], y + dy[k]) != 0;
+    return n;
+  };
+  std::vector<cv::Point> pixels;  // the edge pixels, in raster order
+  for (int y = 0; y < H; ++y) {
+    const std::uint8_t* row = edges.ptr<std::uint8_t>(y);
+    for (int x = 0; x < W; ++x)
+      if (row[x]) pixels.emplace_back(x, y);
+  }
+  std::vector<std::vector<cv::Point>> out;
+  for (int pass = 0; pass < 2; ++pass)  // from the ends first, then what is left (closed outlines)
+    for (const cv::Point& e : pixels) {
+      const int x = e.x, y = e.y;
+      {
+        if (edges.at<std::uint8_t>(y, x) != kEdge || (pass == 0 && neighbours(x, y) != 1)) continue;
+        edges.at<std::uint8_t>(y, x) = kVisited;
+        std::vector<cv::Point> chain = {{x, y}};
+        walk({x, y}, -1, chain);
+        if (pass == 1) {  // started inside an outline: the other way too, joined
+          std::vector<cv::Point> back;
+          walk({x, y}, -1, back);
+          std::reverse(back.begin(), back.end());
+          back.insert(back.end(), chain.begin(), chain.end());
+          chain.swap(back);
+        }
+        if (int(chain.size()) >= min_length) out.push_back(std::move(chain));
+      }
+    }
+  // Canny leaves a second strand beside the first where an outline runs diagonally: a chain
+  // whose pixels mostly touch a longer chain's is that longer chain again
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  cv::Mat owned(H + 2, W + 2, CV_8U, cv::Scalar(0));  // a pixel border: no bounds checks
+  std::vector<std::vector<cv::Point>> kept;
+  for (auto& chain : out) {
+    std::size_t touching = 0;
+    for (const cv::Point& p : chain) {
+      bool t = false;
+      for (int k = 0; k < 8 && !t; ++k) t = owned.at<std::uint8_t>(p.y + 1 + dy[k], p.x + 1 + dx[k]) != 0;
+      touching += t;
+    }
+    if (touching * 5 >= chain.size() * 4) continue;
+    for (const cv::Point& p : chain) owned.at<std::uint8_t>(p.y + 1, p.x + 1) = 1;
+    kept.push_back(std::move(chain));
+  }
+  return kept;
+}
+
 }  // namespace
 
 std::vector<EdgeChain> detect_edges(const ColorImage& color, const EdgeOptions& o) {
@@ -28,21 +112,26 @@ std::vector<EdgeChain> detect_edges(const ColorImage& color, const EdgeOptions& 
   cv::Mat grey;
   cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
 
-  auto ed = cv::ximgproc::createEdgeDrawing();
-  ed->params.GradientThresholdValue = o.gradient_threshold;
-  ed->params.AnchorThresholdValue = o.anchor_threshold;
-  ed->params.Sigma = float(o.sigma);
-  ed->params.MinPathLength = o.min_chain_px;
-  ed->detectEdges(grey);
-  const std::vector<std::vector<cv::Point>> segments = ed->getSegments();
-
-  // the gradient magnitude ED walked on, for the sub-pixel peak across the edge
-  cv::Mat gx, gy;
-  if (o.subpixel) {
-    cv::Mat smooth;
+  // the gradient (the sub-pixel peak across the edge is found on it; Canny suppresses and links on it)
+  cv::Mat smooth, gx, gy;
+  if (o.subpixel || o.method == EdgeMethod::Canny) {
     cv::GaussianBlur(grey, smooth, cv::Size(), o.sigma);
     cv::Sobel(smooth, gx, CV_16S, 1, 0);
     cv::Sobel(smooth, gy, CV_16S, 0, 1);
+  }
+  std::vector<std::vector<cv::Point>> segments;
+  if (o.method == EdgeMethod::Canny) {
+    cv::Mat edges;
+    cv::Canny(gx, gy, edges, o.gradient_threshold, 2.0 * o.gradient_threshold, false);
+    segments = link_edges(edges, o.min_chain_px);
+  } else {
+    auto ed = cv::ximgproc::createEdgeDrawing();
+    ed->params.GradientThresholdValue = o.gradient_threshold;
+    ed->params.AnchorThresholdValue = o.anchor_threshold;
+    ed->params.Sigma = float(o.sigma);
+    ed->params.MinPathLength = o.min_chain_px;
+    ed->detectEdges(grey);
+    segments = ed->getSegments();
   }
   const int W = grey.cols, H = grey.rows;
   auto mag = [&](int x, int y) {

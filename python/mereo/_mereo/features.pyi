@@ -14,8 +14,9 @@ def detect_edge_primitives(frame: mereo._mereo.Frame, **kwargs) -> list[...]:
     Lines and elliptical arcs of a frame's colour image (mereo.knowledge.Segment objects of class line and arc: pixel coordinates, the colours on both sides, and where the depth allows the 3-D segment or circle; .pixels holds each one's edge pixels). Also takes an (H, W, 3) uint8 colour array and an optional (H, W, 3) cloud.
     
     Options (keyword arguments; mereo.options_of lists them):
+        method (str, default canny, one of canny edge_drawing): where the edge chains come from: Canny's edges linked here, or Edge Drawing's
         gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
-        anchor_threshold (int, default 8, 0..255): how much an anchor exceeds its neighbours
+        anchor_threshold (int, default 8, 0..255): Edge Drawing: how much an anchor exceeds its neighbours
         sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
         min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels
         subpixel (bool, default true): refine points to the gradient's sub-pixel peak across the edge
@@ -37,8 +38,9 @@ def detect_edge_primitives(color: typing.Any, cloud: typing.Any = None, **kwargs
     Lines and elliptical arcs of a frame's colour image (mereo.knowledge.Segment objects of class line and arc: pixel coordinates, the colours on both sides, and where the depth allows the 3-D segment or circle; .pixels holds each one's edge pixels). Also takes an (H, W, 3) uint8 colour array and an optional (H, W, 3) cloud.
     
     Options (keyword arguments; mereo.options_of lists them):
+        method (str, default canny, one of canny edge_drawing): where the edge chains come from: Canny's edges linked here, or Edge Drawing's
         gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
-        anchor_threshold (int, default 8, 0..255): how much an anchor exceeds its neighbours
+        anchor_threshold (int, default 8, 0..255): Edge Drawing: how much an anchor exceeds its neighbours
         sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
         min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels
         subpixel (bool, default true): refine points to the gradient's sub-pixel peak across the edge

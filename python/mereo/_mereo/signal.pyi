@@ -10,8 +10,9 @@ def detect_edges(color: typing.Any, **kwargs) -> list:
     The edge chains of an (H, W, 3) uint8 RGB image, longest first: a list of (N, 2) float32 arrays of (x, y) image coordinates, sub-pixel, in the order the points are connected (Edge Drawing, OpenCV ximgproc).
     
     Options (keyword arguments; mereo.options_of lists them):
+        method (str, default canny, one of canny edge_drawing): where the edge chains come from: Canny's edges linked here, or Edge Drawing's
         gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
-        anchor_threshold (int, default 8, 0..255): how much an anchor exceeds its neighbours
+        anchor_threshold (int, default 8, 0..255): Edge Drawing: how much an anchor exceeds its neighbours
         sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
         min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels
         subpixel (bool, default true): refine points to the gradient's sub-pixel peak across the edge

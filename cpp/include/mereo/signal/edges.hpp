@@ -1,8 +1,9 @@
 // mereo/signal/edges.hpp: the edge image of a colour image (the signal layer): chains of connected
-// edge pixels, each point moved to the sub-pixel maximum of the gradient across the edge. The
-// chains come from OpenCV's Edge Drawing (ximgproc; Topal and Akinlar 2012), which links edge
-// pixels by walking from anchors along gradient ridges: one pass, no hysteresis, chains of single
-// pixels. features/edges.hpp fits lines and elliptical arcs to them.
+// edge pixels, each point moved to the sub-pixel maximum of the gradient across the edge.
+// features/edges.hpp fits lines and elliptical arcs to them. The chains come from Canny's edges
+// linked here (the default: bench_edges measured OpenCV's Edge Drawing, which walks chains from
+// anchors along gradient ridges, Topal and Akinlar 2012, at 8-12 ms on textured real VGA frames),
+// or from Edge Drawing itself (ximgproc).
 #pragma once
 
 #include <vector>
@@ -14,10 +15,21 @@
 
 namespace mereo::signal {
 
+/// Where the edge pixels and their chains come from.
+enum class EdgeMethod {
+  /// Canny's non-maximum suppression and hysteresis (OpenCV) on our gradient, then the thin edge
+  /// pixels linked into chains here, each walk going on to the neighbour that turns least.
+  Canny,
+  /// OpenCV's Edge Drawing (ximgproc): chains walked from anchors along gradient ridges.
+  EdgeDrawing,
+};
+
 struct EdgeOptions {
-  /// Gradient magnitude (|gx| + |gy| of Sobel on 8-bit grey levels) below which no pixel is an edge.
+  EdgeMethod method = EdgeMethod::Canny;
+  /// Gradient magnitude (|gx| + |gy| of Sobel on 8-bit grey levels) below which no pixel is an
+  /// edge (Canny: the low threshold; a chain holds a pixel of twice this).
   int gradient_threshold = 24;
-  /// An anchor (where a chain starts) exceeds its two neighbours across the edge by this much.
+  /// Edge Drawing: an anchor (where a chain starts) exceeds its two neighbours across the edge by this much.
   int anchor_threshold = 8;
   /// Gaussian smoothing before the gradient, pixels.
   double sigma = 1.0;
@@ -32,8 +44,10 @@ struct EdgeOptions {
 inline const Fields<EdgeOptions>& EdgeOptions::fields() {
   using O = EdgeOptions;
   static const Fields<O> f = {
+      choice("method", &O::method, {{"canny", EdgeMethod::Canny}, {"edge_drawing", EdgeMethod::EdgeDrawing}},
+             "where the edge chains come from: Canny's edges linked here, or Edge Drawing's"),
       field("gradient_threshold", &O::gradient_threshold, 1, 1020, "least gradient magnitude of an edge pixel"),
-      field("anchor_threshold", &O::anchor_threshold, 0, 255, "how much an anchor exceeds its neighbours"),
+      field("anchor_threshold", &O::anchor_threshold, 0, 255, "Edge Drawing: how much an anchor exceeds its neighbours"),
       field("sigma", &O::sigma, 0.3, 10, "Gaussian smoothing before the gradient, pixels"),
       field("min_chain_px", &O::min_chain_px, 2, 100000, "shortest edge chain kept, pixels"),
       field("subpixel", &O::subpixel, "refine points to the gradient's sub-pixel peak across the edge"),

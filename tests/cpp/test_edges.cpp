@@ -13,6 +13,8 @@
 #include "mereo/core/error.hpp"
 #include "mereo/extension/projection.hpp"
 #include "mereo/features/edges.hpp"
+#include "mereo/knowledge/model_file.hpp"
+#include "mereo/matching/match.hpp"
 #include "mereo/signal/edges.hpp"
 #include "mereo/synthetic/scene.hpp"
 
@@ -127,6 +129,38 @@ TEST_P(EdgesOfDrawings, APartlyHiddenDiscIsAnArcOfWhatIsSeen) {
   const Eigen::Vector2d mid = a->at((a->start_deg + a->end_deg) / 2);
   EXPECT_NEAR(mid.x(), 230, 3);
   EXPECT_NEAR(mid.y(), 240, 3);
+}
+
+TEST(Edges, ADrawnCylinderIsAnEdgeCylinderAndAnUnrelatedCircleBesideTwoLinesIsNone) {
+  // a cylinder's outline: its two sides (x = 250 and 350, y 200-330), its top face's ellipse (a
+  // lighter colour: the rim is an edge all round) and its bottom's near half
+  const ColorImage cylinder = drawing([](cv::Mat& img) {
+    cv::ellipse(img, cv::Point(300, 330), cv::Size(50, 16), 0, 0, 180, cv::Scalar(60, 60, 140), cv::FILLED, cv::LINE_AA);
+    cv::rectangle(img, cv::Point(250, 200), cv::Point(350, 330), cv::Scalar(60, 60, 140), cv::FILLED);
+    cv::ellipse(img, cv::Point(300, 200), cv::Size(50, 16), 0, 0, 360, cv::Scalar(120, 120, 230), cv::FILLED, cv::LINE_AA);
+  });
+  // the same lines and an ellipse of the same size, apart: no cylinder
+  const ColorImage apart = drawing([](cv::Mat& img) {
+    cv::rectangle(img, cv::Point(250, 200), cv::Point(350, 330), cv::Scalar(60, 60, 140), cv::FILLED);
+    cv::ellipse(img, cv::Point(520, 100), cv::Size(50, 16), 0, 0, 360, cv::Scalar(120, 120, 230), cv::FILLED, cv::LINE_AA);
+  });
+  const auto& kb = mereo::knowledge::builtin_models();
+  auto best = [&](const ColorImage& c, std::vector<Segment>& s) {
+    s = primitives(c);
+    const auto l = mereo::matching::recognize(kb, {"edge_cylinder"}, s);
+    return l.hypotheses.empty() ? mereo::matching::Hypothesis{} : l.hypotheses.front();
+  };
+  std::vector<Segment> s;
+  const auto h = best(cylinder, s);
+  ASSERT_GT(h.score, 0.5);
+  const auto& rim = s[std::size_t(h.assignment[0])].as<sh::Arc>();
+  EXPECT_NEAR(rim.center_px.x(), 300, 2);
+  EXPECT_NEAR(rim.axes_px.x(), 50, 2);
+  const auto& a = s[std::size_t(h.assignment[1])].as<sh::Line>();
+  const auto& b = s[std::size_t(h.assignment[2])].as<sh::Line>();
+  EXPECT_NEAR(std::abs(a.start_px.x() - b.start_px.x()), 100, 3);  // the two sides, not one twice
+  EXPECT_NEAR(std::min(a.start_px.x(), b.start_px.x()), 250, 2);
+  EXPECT_LT(best(apart, s).score, 0.5);
 }
 
 /// What the edge primitives' pixels reach of the outlines of a rendered frame's objects (not of

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 namespace mereo::knowledge {
@@ -107,6 +108,77 @@ double distance(const Segment& a, const Segment& b, const Constraint& c) {
   return Membership::range(lo, hi, margin)((a.origin() - b.origin()).norm());
 }
 
+// ---- in the image: 2-D primitives (a line, an arc: shapes/line.hpp, shapes/arc.hpp) ----
+
+/// A 2-D primitive's direction in the image: a line's, an arc's major axis; none for the others.
+std::optional<Eigen::Vector2d> image_direction(const Segment& s) {
+  if (const auto* l = s.get_if<shapes::Line>(); l && l->length_px() > 0) return (l->end_px - l->start_px).normalized();
+  if (const auto* a = s.get_if<shapes::Arc>(); a && a->axes_px.x() > 0)
+    return Eigen::Vector2d(std::cos(a->angle_deg * kDeg), std::sin(a->angle_deg * kDeg));
+  return std::nullopt;
+}
+/// Angle in [0, 90] degrees between two undirected image directions.
+double image_angle(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return std::acos(std::min(1.0, std::abs(a.dot(b)))) / kDeg;
+}
+double parallel_px(const Segment& a, const Segment& b, const Constraint& c) {
+  const auto da = image_direction(a), db = image_direction(b);
+  const double tol = param(c, "tolerance_deg", 10.0);
+  return da && db ? falling(image_angle(*da, *db), tol, 2 * tol) : 0.0;
+}
+double perpendicular_px(const Segment& a, const Segment& b, const Constraint& c) {
+  const auto da = image_direction(a), db = image_direction(b);
+  const double tol = param(c, "tolerance_deg", 10.0);
+  return da && db ? falling(90.0 - image_angle(*da, *db), tol, 2 * tol) : 0.0;
+}
+/// The distance from q to a polyline.
+double to_polyline(const Eigen::Vector2d& q, const std::vector<Eigen::Vector2d>& l) {
+  double best = 1e300;
+  for (std::size_t k = 0; k + 1 < l.size(); ++k) {
+    const Eigen::Vector2d d = l[k + 1] - l[k];
+    const double t = d.squaredNorm() > 0 ? std::clamp(d.dot(q - l[k]) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+    best = std::min(best, (l[k] + t * d - q).norm());
+  }
+  return best;
+}
+/// A 2-D primitive's curve in the image: a line's segment; an arc's whole ellipse, which the
+/// outline meets also where the arc was not seen; empty for other classes.
+std::vector<Eigen::Vector2d> image_curve(const Segment& s) {
+  if (const auto* a = s.get_if<shapes::Arc>(); a && a->axes_px.x() > 0) {
+    std::vector<Eigen::Vector2d> l;
+    for (int k = 0; k <= 72; ++k) l.push_back(a->at(5.0 * k));
+    return l;
+  }
+  const auto o = s.outline().pixels;
+  return o.empty() ? std::vector<Eigen::Vector2d>{} : o.front();
+}
+/// How far apart two 2-D primitives are in the image: the nearest of either one's ends to the
+/// other's curve (NaN when either is not drawn in the image).
+double image_gap(const Segment& a, const Segment& b) {
+  const auto oa = a.outline().pixels, ob = b.outline().pixels;
+  if (oa.empty() || ob.empty()) return NAN;
+  const std::vector<std::vector<Eigen::Vector2d>> ca = {oa.front(), image_curve(a)}, cb = {ob.front(), image_curve(b)};
+  auto ends_to = [](const std::vector<Eigen::Vector2d>& ends, const std::vector<Eigen::Vector2d>& curve) {
+    return std::min(to_polyline(ends.front(), curve), to_polyline(ends.back(), curve));
+  };
+  return std::min(ends_to(ca[0], cb[1]), ends_to(cb[0], ca[1]));  // ends as seen, curves whole
+}
+double touches_px(const Segment& a, const Segment& b, const Constraint& c) {
+  const double max = param(c, "max", 4.0);
+  return falling(image_gap(a, b), max, 2 * max);
+}
+/// b's middle off a's line (a: a line) by at least `min` pixels (0 at half of it).
+double apart_px(const Segment& a, const Segment& b, const Constraint& c) {
+  const auto* la = a.get_if<shapes::Line>();
+  const auto cb = b.outline().pixels;
+  if (!la || la->length_px() <= 0 || cb.empty()) return 0.0;
+  const Eigen::Vector2d d = (la->end_px - la->start_px).normalized();
+  const Eigen::Vector2d mid = (cb.front().front() + cb.front().back()) / 2;
+  const double off = std::abs(d.x() * (mid - la->start_px).y() - d.y() * (mid - la->start_px).x());
+  const double min = param(c, "min", 8.0);
+  return std::clamp((off - min / 2) / (min / 2), 0.0, 1.0);
+}
+
 const std::map<std::string, std::vector<std::string>>& predicate_table() {
   static const std::map<std::string, std::vector<std::string>> t = {
       {"near", {"max"}},
@@ -118,6 +190,10 @@ const std::map<std::string, std::vector<std::string>>& predicate_table() {
       {"on", {"tolerance"}},
       {"same_size", {"ratio"}},
       {"distance", {"min", "max", "margin"}},
+      {"parallel_px", {"tolerance_deg"}},
+      {"perpendicular_px", {"tolerance_deg"}},
+      {"touches_px", {"max"}},
+      {"apart_px", {"min"}},
   };
   return t;
 }
@@ -225,6 +301,14 @@ CompiledConstraint compile(const Constraint& c) {
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return same_size(a, b, k); };
   else if (p == "distance")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return distance(a, b, k); };
+  else if (p == "parallel_px")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return parallel_px(a, b, k); };
+  else if (p == "perpendicular_px")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return perpendicular_px(a, b, k); };
+  else if (p == "touches_px")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return touches_px(a, b, k); };
+  else if (p == "apart_px")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return apart_px(a, b, k); };
   else throw std::invalid_argument("unknown predicate '" + p + "'");
   return [f, con, clamp01](const std::vector<const Segment*>& parts, const Context& ctx) {
     if (parts.size() < 2) throw std::invalid_argument("predicate '" + con->predicate + "' needs two parts");

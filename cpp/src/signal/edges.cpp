@@ -25,7 +25,7 @@ float parabola_peak(float a, float b, float c) {
 /// 8-neighbour that turns least from the last step (a 4-neighbour on a tie: staircases keep
 /// their corner pixels). A junction ends no walk: the straightest branch goes on, the others
 /// are chains of their own.
-std::vector<std::vector<cv::Point>> link_edges(cv::Mat& edges, int min_length) {
+std::vector<std::vector<cv::Point>> link_edges(const cv::Mat& edges, int min_length) {
   static const int dx[8] = {1, 0, -1, 0, 1, -1, -1, 1}, dy[8] = {0, 1, 0, -1, 1, 1, -1, -1};
   static const auto turns = [] {  // eighths of a full turn (0..4) from step a to step b
     std::array<std::array<int, 8>, 8> t{};
@@ -36,68 +36,72 @@ std::vector<std::vector<cv::Point>> link_edges(cv::Mat& edges, int min_length) {
       }
     return t;
   }();
-  const int W = edges.cols, H = edges.rows;
-  auto at = [&](int x, int y) { return x >= 0 && y >= 0 && x < W && y < H ? edges.at<std::uint8_t>(y, x) : 0; };
+  // the edge map with a border of one empty pixel, addressed by index: no bounds checks
+  const int W = edges.cols, H = edges.rows, W2 = W + 2;
+  cv::Mat padded;
+  cv::copyMakeBorder(edges, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
+  std::uint8_t* m = padded.ptr<std::uint8_t>(0);
+  int step[8];
+  for (int k = 0; k < 8; ++k) step[k] = dy[k] * W2 + dx[k];
   constexpr std::uint8_t kEdge = 255, kVisited = 128;
-  auto walk = [&](cv::Point p, int last, std::vector<cv::Point>& chain) {  // last: the step that led here, -1: none
-    for (;;) {
+  auto point = [&](int i) { return cv::Point(i % W2 - 1, i / W2 - 1); };
+  auto walk = [&](int i, std::vector<cv::Point>& chain) {
+    for (int last = -1;;) {  // the step that led here (-1: none)
       int best = -1, best_turn = 99;
       for (int k = 0; k < 8; ++k)
-        if (at(p.x + dx[k], p.y + dy[k]) == kEdge) {
+        if (m[i + step[k]] == kEdge) {
           const int turn = last < 0 ? 0 : turns[last][k];
           if (turn < best_turn) best = k, best_turn = turn;  // 4-neighbours first on a tie
         }
       if (best < 0 || best_turn > 2) return;  // an end, or a turn back of more than 90 degrees
-      p += cv::Point(dx[best], dy[best]);
-      edges.at<std::uint8_t>(p.y, p.x) = kVisited;
-      chain.push_back(p);
+      i += step[best];
+      m[i] = kVisited;
+      chain.push_back(point(i));
       last = best;
     }
   };
-  auto neighbours = [&](int x, int y) {
-    int n = 0;
-    for (int k = 0; k < 8; ++k) n += at(x + dx[k], y + dy[k]) != 0;
-    return n;
-  };
-  std::vector<cv::Point> pixels;  // the edge pixels, in raster order
-  for (int y = 0; y < H; ++y) {
-    const std::uint8_t* row = edges.ptr<std::uint8_t>(y);
-    for (int x = 0; x < W; ++x)
-      if (row[x]) pixels.emplace_back(x, y);
-  }
+  std::vector<int> pixels;  // the edge pixels, in raster order, and which of them are ends
+  std::vector<char> end;
+  for (int y = 1; y <= H; ++y)
+    for (int i = y * W2 + 1; i <= y * W2 + W; ++i)
+      if (m[i]) {
+        int n = 0;
+        for (int k = 0; k < 8; ++k) n += m[i + step[k]] != 0;
+        pixels.push_back(i);
+        end.push_back(n == 1);
+      }
   std::vector<std::vector<cv::Point>> out;
   for (int pass = 0; pass < 2; ++pass)  // from the ends first, then what is left (closed outlines)
-    for (const cv::Point& e : pixels) {
-      const int x = e.x, y = e.y;
-      {
-        if (edges.at<std::uint8_t>(y, x) != kEdge || (pass == 0 && neighbours(x, y) != 1)) continue;
-        edges.at<std::uint8_t>(y, x) = kVisited;
-        std::vector<cv::Point> chain = {{x, y}};
-        walk({x, y}, -1, chain);
-        if (pass == 1) {  // started inside an outline: the other way too, joined
-          std::vector<cv::Point> back;
-          walk({x, y}, -1, back);
-          std::reverse(back.begin(), back.end());
-          back.insert(back.end(), chain.begin(), chain.end());
-          chain.swap(back);
-        }
-        if (int(chain.size()) >= min_length) out.push_back(std::move(chain));
+    for (std::size_t e = 0; e < pixels.size(); ++e) {
+      const int i = pixels[e];
+      if (m[i] != kEdge || (pass == 0 && !end[e])) continue;
+      m[i] = kVisited;
+      std::vector<cv::Point> chain = {point(i)};
+      walk(i, chain);
+      if (pass == 1) {  // started inside an outline: the other way too, joined
+        std::vector<cv::Point> back;
+        walk(i, back);
+        std::reverse(back.begin(), back.end());
+        back.insert(back.end(), chain.begin(), chain.end());
+        chain.swap(back);
       }
+      if (int(chain.size()) >= min_length) out.push_back(std::move(chain));
     }
   // Canny leaves a second strand beside the first where an outline runs diagonally: a chain
   // whose pixels mostly touch a longer chain's is that longer chain again
   std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
-  cv::Mat owned(H + 2, W + 2, CV_8U, cv::Scalar(0));  // a pixel border: no bounds checks
+  std::fill(m, m + padded.total(), 0);  // now: the pixels of the chains kept
   std::vector<std::vector<cv::Point>> kept;
   for (auto& chain : out) {
     std::size_t touching = 0;
     for (const cv::Point& p : chain) {
+      const int i = (p.y + 1) * W2 + p.x + 1;
       bool t = false;
-      for (int k = 0; k < 8 && !t; ++k) t = owned.at<std::uint8_t>(p.y + 1 + dy[k], p.x + 1 + dx[k]) != 0;
+      for (int k = 0; k < 8 && !t; ++k) t = m[i + step[k]] != 0;
       touching += t;
     }
     if (touching * 5 >= chain.size() * 4) continue;
-    for (const cv::Point& p : chain) owned.at<std::uint8_t>(p.y + 1, p.x + 1) = 1;
+    for (const cv::Point& p : chain) m[(p.y + 1) * W2 + p.x + 1] = 1;
     kept.push_back(std::move(chain));
   }
   return kept;

@@ -19,6 +19,13 @@
 //  - same_size(a, b; ratio = 0.8): min/max of the sizes (radius, or height for lines) >= ratio
 //    gives 1, falling to 0 at ratio - 0.2;
 //  - distance(a, b; min = 0, max, margin = 0.01 m): centre distance within [min, max].
+// and, in the image, for 2-D primitives (a line, an arc: the edge modality; 0 for other classes):
+//  - parallel_px / perpendicular_px(a, b; tolerance_deg = 10): angle between their image
+//    directions (a line's, an arc's major axis), 1 within tolerance, 0 beyond 2*tolerance;
+//  - touches_px(a, b; max = 4 px): the nearest of either one's ends (as seen) to the other's curve
+//    (an arc's whole ellipse), 1 within max, 0 beyond 2*max (a cylinder's side ends on its rim);
+//  - apart_px(a, b; min = 8 px): b's middle lies off a's line (a: a line) by at least min, 0 at
+//    half of it (the two sides of a cylinder's outline are two lines, not one).
 #pragma once
 
 #include <functional>

@@ -67,10 +67,7 @@ cv::Mat draw_lines(const Input& in, const std::vector<cv::Vec4f>& lines) {
 }
 
 cv::Mat segment_pixels(const Input& in, const std::vector<Segment>& s) {
-  cv::Mat m = blank(in);
-  for (const auto& x : s)
-    for (int i : x.pixels) m.at<std::uint8_t>(i / m.cols, i % m.cols) = 255;
-  return m;
+  return bench::segment_mask(s, in.grey.rows, in.grey.cols);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mereo/core/image.hpp"
+#include "mereo/core/segment.hpp"
 
 namespace mereo::bench {
 
@@ -38,6 +39,14 @@ std::vector<int> outline_pixels(const LabelImage& labels, const ColorImage& colo
       }
     }
   return out;
+}
+
+/// The pixels of `segments` (their `pixels`) as a CV_8U mask of rows x cols, 255 on them.
+inline cv::Mat segment_mask(const std::vector<Segment>& segments, int rows, int cols) {
+  cv::Mat m(rows, cols, CV_8U, cv::Scalar(0));
+  for (const auto& s : segments)
+    for (int i : s.pixels) m.data[i] = 255;
+  return m;
 }
 
 /// The share of `truth` pixels within `r` pixels (a square window) of a non-zero pixel of `hit`

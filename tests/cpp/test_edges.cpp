@@ -171,10 +171,7 @@ double outline_recall(const mereo::synthetic::SyntheticFrame& f, const std::vect
     return o && o->model != "table" && o->model != "floor" && o->model != "wall";
   });
   *count = truth.size();
-  cv::Mat hit(f.frame.rows(), f.frame.cols(), CV_8U, cv::Scalar(0));
-  for (const auto& x : s)
-    for (int i : x.pixels) hit.at<std::uint8_t>(i / hit.cols, i % hit.cols) = 255;
-  return mereo::bench::outline_recall(truth, hit, 2);
+  return mereo::bench::outline_recall(truth, mereo::bench::segment_mask(s, f.frame.rows(), f.frame.cols()), 2);
 }
 
 TEST(Edges, LinesAndArcsTraceTheOutlinesOfRenderedObjects) {

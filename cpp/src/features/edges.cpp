@@ -273,7 +273,8 @@ void drop_outliers(std::vector<Eigen::Vector3d>& x, Dist dist, double floor) {
   x.swap(out);
 }
 
-void lift_line(shapes::Line& l, std::vector<Eigen::Vector3d> x, double tol_1m, double& residual) {
+/// A line's 3-D segment from its lifted points (kept when they fit it within tol_1m * z).
+void lift_to_3d(shapes::Line& l, std::vector<Eigen::Vector3d> x, double tol_1m, double& residual) {
   if (x.size() < 5) return;
   for (int pass = 0; pass < 2; ++pass) {
     const Pca f = pca(x);
@@ -299,7 +300,8 @@ void lift_line(shapes::Line& l, std::vector<Eigen::Vector3d> x, double tol_1m, d
   }
 }
 
-void lift_arc(shapes::Arc& arc, std::vector<Eigen::Vector3d> x, double tol_1m, double& residual) {
+/// An arc's 3-D circle from its lifted points: a plane, then a circle in it (Kasa).
+void lift_to_3d(shapes::Arc& arc, std::vector<Eigen::Vector3d> x, double tol_1m, double& residual) {
   if (x.size() < 8) return;
   for (int pass = 0; pass < 2; ++pass) {
     const Pca f = pca(x);
@@ -390,6 +392,18 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
       }
     }
     const auto& p = *points;
+    // the segment of a line or an arc fitted to points i..j: lifted where the depth allows, with
+    // its edge pixels and their colour
+    auto segment_of = [&](auto shape, int i, int j) {
+      double residual = 0;
+      if (lift) lift_to_3d(shape, lifted_points(p, i, j, *lifter), o.lift_tolerance, residual);
+      Segment s{Geometry(shape)};
+      s.residual = residual;
+      s.pixels = pixels_of(p, i, j, W, H);
+      s.inliers = s.pixels.size();
+      detail::set_color(s, &color);
+      return s;
+    };
     const int pieces = int(cut.size()) - 1;
     auto turn_at = [&](int k) { return turn(p[cut[k]], p[cut[k + 1]], p[cut[k + 2]]); };  // piece k to k + 1
     const double max_turn = o.max_turn_deg * kDeg;
@@ -449,12 +463,7 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
           samples.push_back({a.at(t), -n.normalized()});  // a: inside
         }
         a.sides = sides_of(color, samples, o.side_offset_px);
-        Segment s{Geometry(a)};
-        if (lift) lift_arc(s.as<shapes::Arc>(), lifted_points(p, i, j, *lifter), o.lift_tolerance, s.residual);
-        s.pixels = pixels_of(p, i, j, W, H);
-        s.inliers = s.pixels.size();
-        detail::set_color(s, &color);
-        arcs.push_back(std::move(s));
+        arcs.push_back(segment_of(a, i, j));
         k = best_e + 1;
         continue;
       }
@@ -477,12 +486,7 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
       const double len = l.length_px();
       for (double t = 0; t <= len; t += 2) samples.push_back({l.start_px + d * t, left});
       l.sides = sides_of(color, samples, o.side_offset_px);
-      Segment s{Geometry(l)};
-      if (lift) lift_line(s.as<shapes::Line>(), lifted_points(p, i, j, *lifter), o.lift_tolerance, s.residual);
-      s.pixels = pixels_of(p, i, j, W, H);
-      s.inliers = s.pixels.size();
-      detail::set_color(s, &color);
-      lines.push_back(std::move(s));
+      lines.push_back(segment_of(l, i, j));
     }
   }
   std::vector<Segment> out = std::move(arcs);

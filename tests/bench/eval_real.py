@@ -12,6 +12,10 @@
     Precision = true positives / accepted objects; recall = labelled cans, bowls, bottles, mugs
     and pitchers (not 'difficult') with a true positive on them / all of those.
 
+  - the real mugs (nv red_mug, PCL's stereo mug, the PoseCNN frames with a labelled mug): how many
+    accepted mugs have a handle when it may be seen in the depth alone, with the colour silhouette,
+    with the colour image's edges (HANDLE_SOURCES).
+
 Prints one line per frame and the totals, writes the overlays (objects drawn, label boxes in
 grey) to --out. An object's pixels are its parts' inlier pixels.
 """
@@ -51,11 +55,14 @@ class SegmentPixels:
         return m
 
 
-def run(frame):
-    """The result dict and the segments' pixels of one frame (tabletop graph, deterministic)."""
+def run(frame, **primitive_options):
+    """The result dict and the segments' pixels of one frame (tabletop graph, deterministic; the
+    options given set the detect_primitives node's)."""
     from mereo import recognition
 
     g = recognition.tabletop_graph()
+    if primitive_options:
+        g.set_options("primitives", **primitive_options)
     r = g.run([frame], keep=["result.result", "regions.segments"])[0]
     result = recognition._result(r, "skip")
     segments = [] if r["error"] else r["outputs"]["regions.segments"]
@@ -134,6 +141,21 @@ def overlay(frame, result: dict, boxes: list[dict], path: Path) -> None:
     img.save(path)
 
 
+# where a mug's handle may be seen: the depth's surfaces alone, and each colour modality beside them
+HANDLE_SOURCES = {"depth": dict(handles_from_colour=False, handles_from_edges=False),
+                  "colour silhouette": dict(handles_from_colour=True, handles_from_edges=False),
+                  "edges": dict(handles_from_colour=False, handles_from_edges=True)}
+
+
+def handle_sources(frame) -> str:
+    """Which sources alone (beside the depth's surfaces) give the frame's accepted mugs a handle."""
+    counts = {}
+    for name, options in HANDLE_SOURCES.items():
+        result, _ = run(frame, **options)
+        counts[name] = sum(o["model"] == "mug" and "handle" in o["parts"] for o in accepted(result))
+    return ", ".join(f"{name} {n}" for name, n in counts.items())
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default=str(ROOT / "out" / "eval_real"), help="overlay folder")
@@ -196,6 +218,18 @@ def main(argv=None) -> int:
     print(f"  precision {tp}/{tp + fp} = {precision:.2f}; recall {found}/{wanted} = {recall:.2f}")
     figures.update(posecnn_precision=precision, posecnn_recall=recall, posecnn_tp=tp, posecnn_fp=fp,
                    posecnn_found=found, posecnn_wanted=wanted)
+    # the real mugs: which source finds each one's handle (mugs with a handle, per source)
+    print("mugs with a handle, by where the handle was seen (depth alone; with the colour silhouette; with edges):")
+    mug_frames = {"nv-6dof-graspnet red_mug": (str(REAL / "nv-6dof-graspnet" / "red_mug-depth.png"), {}),
+                  "pcl table_scene_mug_stereo_textured": (str(REAL / "pcl" / "table_scene_mug_stereo_textured.pcd"), {})}
+    for fid, truth in sorted(labels_file["frames"].items()):
+        if any(t["class"] == "mug" for t in truth):
+            mug_frames[f"posecnn {fid}"] = (str(REAL / "posecnn" / f"{fid}-depth.png"), POSECNN)
+    figures["handle_sources"] = {}
+    for name, (path, kw) in mug_frames.items():
+        text = handle_sources(mereo.io.read(path, **kw))
+        figures["handle_sources"][name] = text
+        print(f"  {name}: {text}")
     print(f"overlays in {out}")
     if args.json:
         Path(args.json).write_text(json.dumps(figures, indent=1))

@@ -115,7 +115,7 @@ std::optional<shapes::Arc> direct_ellipse(const ConicScatter& c) {
   for (int k = 0; k < n_roots && !a1; ++k) {
     const Eigen::Matrix3d L = N - roots[k] * Eigen::Matrix3d::Identity();
     Eigen::Vector3d v = L.row(0).cross(L.row(1)).transpose();
-    for (const Eigen::Vector3d w : {Eigen::Vector3d(L.row(0).cross(L.row(2))), Eigen::Vector3d(L.row(1).cross(L.row(2)))})
+    for (const Eigen::Vector3d& w : {Eigen::Vector3d(L.row(0).cross(L.row(2))), Eigen::Vector3d(L.row(1).cross(L.row(2)))})
       if (w.squaredNorm() > v.squaredNorm()) v = w;
     if (v.squaredNorm() > 0 && 4 * v(0) * v(2) - v(1) * v(1) > 0) a1 = v.normalized();
   }

@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 #include <Eigen/Geometry>
 
 #include "features/fit.hpp"
 #include "features/pixels.hpp"
+#include "mereo/signal/edges.hpp"
 
 namespace mereo::features {
 
@@ -20,6 +22,12 @@ bool HandleOptions::plausible(const Segment& t) const {
   const auto* r = t.get_if<Torus>();
   return r && r->minor_radius >= min_minor_radius && r->minor_radius <= max_minor_radius &&
          r->major_radius >= min_major_radius && r->major_radius <= max_major_radius;
+}
+
+bool HandleOptions::beside(const Cylinder& body, const Segment& t) const {
+  if (!plausible(t)) return false;
+  const Eigen::Vector3d a = body.axis.normalized(), q = t.as<Torus>().center - body.point;
+  return (q - a * a.dot(q)).norm() >= 0.5 * body.radius;
 }
 
 bool HandleOptions::in_reach(const Cylinder& body, const Eigen::Vector3d& x, double noise) const {
@@ -354,36 +362,77 @@ double colour_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
   return (p / sp - q / sq).norm() + 0.25 * std::abs(sp - sq) / 3;
 }
 
+Eigen::Vector3d colour_of(const ColorImage& color, int i) {
+  const std::uint8_t* c = color.data() + 3 * std::size_t(i);
+  return Eigen::Vector3d(c[0], c[1], c[2]) / 255.0;
+}
+
+/// The camera as a body's own pixels show it (organized: u = f x / z + cx, the principal point
+/// from the pixels' points).
+struct BodyCamera {
+  double focal, cx, cy;
+  int W, H;
+
+  static std::optional<BodyCamera> of(const Pixels& f, const Segment& body) {
+    double cx = 0, cy = 0;
+    int n = 0;
+    for (int i : body.pixels) {
+      const Eigen::Vector3d x = f.p(i);
+      if (!(x.z() > 0)) continue;
+      cx += (i % f.W) - f.focal * x.x() / x.z(), cy += (i / f.W) - f.focal * x.y() / x.z(), ++n;
+    }
+    if (n < 20) return std::nullopt;
+    return BodyCamera{f.focal, cx / n, cy / n, f.W, f.H};
+  }
+  Eigen::Vector2d project(const Eigen::Vector3d& x) const {
+    return {focal * x.x() / x.z() + cx, focal * x.y() / x.z() + cy};
+  }
+  /// The pixel index of x, or -1 outside the image or behind the camera.
+  int pixel_of(const Eigen::Vector3d& x) const {
+    if (!(x.z() > 0)) return -1;
+    const int u = int(std::lround(focal * x.x() / x.z() + cx)), v = int(std::lround(focal * x.y() / x.z() + cy));
+    return u < 0 || v < 0 || u >= W || v >= H ? -1 : v * W + u;
+  }
+  /// The ray's direction through image point (u, v), z = 1.
+  Eigen::Vector3d ray(double u, double v) const { return {(u - cx) / focal, (v - cy) / focal, 1.0}; }
+};
+
+/// The torus that stands for a handle seen in the colour image beside `body` (colour_handle,
+/// edge_handle): in the half-plane through the axis towards w, spanning heights [tmin, tmax] along
+/// the axis, its outer edge `reach` off the wall and attached (no farther out than that), with
+/// `pixels` (sorted) as its inliers.
+Segment seen_handle(const Cylinder& body, const Eigen::Vector3d& w, double tmin, double tmax, double reach,
+                    std::vector<int> pixels, const ColorImage* color) {
+  const Eigen::Vector3d a = body.axis.normalized();
+  Torus t;
+  t.minor_radius = kTube;
+  t.major_radius = std::max(0.012, 0.5 * (tmax - tmin) - kTube);
+  const double d =
+      std::min(body.radius + reach - t.major_radius - kTube, attached_distance(body.radius, t.major_radius, kTube));
+  t.center = body.point + a * (0.5 * (tmin + tmax)) + w * d;
+  t.normal = a.cross(w).normalized();
+  Segment s{Geometry(t)};
+  s.inliers = pixels.size();
+  s.pixels = std::move(pixels);
+  set_color(s, color);
+  return s;
+}
+
 }  // namespace
 
 std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const ColorImage* color, double max_turn_deg) {
   if (!color || color->empty() || body.pixels.size() < 20 || !body.is<Cylinder>()) return std::nullopt;
   const Cylinder& cyl = body.as<Cylinder>();
   const int H = f.H, W = f.W;
-  // the principal point from the body's own pixels (organized: u = f x / z + cx)
-  double cx = 0, cy = 0;
-  int n = 0;
-  for (int i : body.pixels) {
-    const Eigen::Vector3d x = f.p(i);
-    if (!(x.z() > 0)) continue;
-    cx += (i % W) - f.focal * x.x() / x.z(), cy += (i / W) - f.focal * x.y() / x.z(), ++n;
-  }
-  if (n < 20) return std::nullopt;
-  cx /= n, cy /= n;
-  const auto colour_at = [&](int i) -> Eigen::Vector3d {  // (a value: not an expression of a temporary)
-    const std::uint8_t* c = color->data() + 3 * std::size_t(i);
-    return Eigen::Vector3d(c[0], c[1], c[2]) / 255.0;
-  };
+  const auto cam = BodyCamera::of(f, body);
+  if (!cam) return std::nullopt;
+  const auto colour_at = [&](int i) { return colour_of(*color, i); };
   const Eigen::Vector3d body_colour = body.mean_color.cast<double>();  // (set_color's)
   const Eigen::Vector3d a = cyl.axis.normalized(), c = cyl.point;
   const Eigen::Vector3d w0 = a.cross(c.normalized()).normalized();  // towards a limb
   const double r = cyl.radius, half = 0.5 * cyl.height;
   const double step = 0.5 * c.z() / f.focal;  // half a pixel at the body
-  auto pixel_of = [&](const Eigen::Vector3d& x) -> int {
-    if (!(x.z() > 0)) return -1;
-    const int u = int(std::lround(f.focal * x.x() / x.z() + cx)), v = int(std::lround(f.focal * x.y() / x.z() + cy));
-    return u < 0 || v < 0 || u >= W || v >= H ? -1 : v * W + u;
-  };
+  const auto pixel_of = [&](const Eigen::Vector3d& x) { return cam->pixel_of(x); };
   struct Zone {
     double t, rho;
     Eigen::Vector3d x;
@@ -498,20 +547,155 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     if (reach < kMinReach || reach > kMaxReach || span < kMinSpan || span > kMaxSpan * cyl.height || fill < kMinFill ||
         fill > kMaxFill || comp.size() <= best_count)
       continue;
-    Torus t;
-    t.minor_radius = kTube;
-    t.major_radius = std::max(0.012, 0.5 * span - kTube);
-    // its outer edge at the silhouette's reach, and attached (no farther out than that)
-    const double d = std::min(r + reach - t.major_radius - kTube, attached_distance(r, t.major_radius, kTube));
-    t.center = c + a * (0.5 * (tmin + tmax)) + w * d;
-    t.normal = a.cross(w).normalized();
-    Segment s{Geometry(t)};
     std::sort(comp.begin(), comp.end());
-    s.inliers = comp.size();
-    s.pixels = std::move(comp);
-    set_color(s, color);
-    best_count = s.pixels.size();
-    best = std::move(s);
+    best = seen_handle(cyl, w, tmin, tmax, reach, std::move(comp), color);
+    best_count = best->pixels.size();
+  }
+  return best;
+}
+
+namespace {
+
+/// What a handle's outline beside its body is (edge_handle): metres, pixels, shares.
+constexpr double kMinEdgeReach = 0.012;   ///< how far the outline stands off the limb, as seen (a handle
+                                          ///< turned by 60 degrees shows half its reach)
+constexpr double kWallPixels = 2.0;       ///< the outline leaves and meets the limb within this many
+constexpr double kWallMetres = 0.004;     ///< pixels, or this (the body's fitted radius is noisy)
+constexpr double kSideSample = 2.0;       ///< the colours either side of the outline, this far off it, pixels
+constexpr int kMinRunPoints = 12;         ///< an outline's points beside the limb
+constexpr double kMinLikeBody = 0.6;      ///< ... of which this share has the body's colour inside and not outside
+constexpr double kEdgeHeightSlack = 0.04;  ///< the outline may reach this below the body's fitted foot, as
+                                           ///< placed in the limbs' plane (a handle turned towards a camera
+                                           ///< that looks down lands lower there; a far wall's fit is short)
+constexpr double kMaxAxisGap = 0.02;      ///< an inside pixel's depth: at most its reach plus this from the axis
+
+}  // namespace
+
+std::optional<Segment> edge_handle(const Pixels& f, const Segment& body, const ColorImage* color) {
+  if (!color || color->empty() || body.pixels.size() < 20 || !body.is<Cylinder>()) return std::nullopt;
+  const Cylinder& cyl = body.as<Cylinder>();
+  const auto cam = BodyCamera::of(f, body);
+  if (!cam) return std::nullopt;
+  const Eigen::Vector3d body_colour = body.mean_color.cast<double>();
+  const Eigen::Vector3d a = cyl.axis.normalized(), c = cyl.point;
+  const Eigen::Vector3d w0 = a.cross(c.normalized()).normalized();  // towards a limb
+  Eigen::Vector3d v0 = a.cross(w0).normalized();                     // towards the camera
+  if (v0.dot(c) > 0) v0 = -v0;
+  const double r = cyl.radius, half = 0.5 * cyl.height, pixel = c.z() / f.focal;
+  const double wall = std::max(kWallPixels * pixel, kWallMetres);
+  // the zone's box in the image: the body's height, out to a handle's reach each way
+  double u0 = f.W, v0i = f.H, u1 = -1, v1 = -1;
+  for (double t : {-half, half})
+    for (const Eigen::Vector3d& d : {w0, Eigen::Vector3d(-w0), v0})
+      for (double reach : {0.0, r + kColourReach}) {
+        const Eigen::Vector3d x = c + a * t + d * reach;
+        if (!(x.z() > 0.01)) return std::nullopt;
+        const Eigen::Vector2d q = cam->project(x);
+        u0 = std::min(u0, q.x()), v0i = std::min(v0i, q.y()), u1 = std::max(u1, q.x()), v1 = std::max(v1, q.y());
+      }
+  const int bu0 = std::max(0, int(std::floor(u0)) - 4), bv0 = std::max(0, int(std::floor(v0i)) - 4);
+  const int bu1 = std::min(f.W - 1, int(std::ceil(u1)) + 4), bv1 = std::min(f.H - 1, int(std::ceil(v1)) + 4);
+  if (bu1 - bu0 < 16 || bv1 - bv0 < 16) return std::nullopt;
+  ColorImage crop(bv1 - bv0 + 1, bu1 - bu0 + 1);
+  for (int y = bv0; y <= bv1; ++y) std::copy_n(color->ptr(y, bu0), 3 * crop.cols(), crop.ptr(y - bv0, 0));
+  signal::EdgeOptions eo;
+  eo.min_chain_px = kMinRunPoints;
+  const auto chains = signal::detect_edges(crop, eo);
+
+  // a point of the image in the limbs' plane (through the axis, facing the camera): height along
+  // the axis, signed distance across it (+ on w0's side)
+  const double plane_offset = v0.dot(c);
+  struct Place {
+    double t, q;
+  };
+  const auto place = [&](const Eigen::Vector2d& uv) -> std::optional<Place> {
+    const Eigen::Vector3d d = cam->ray(uv.x(), uv.y());
+    const double den = v0.dot(d);
+    if (std::abs(den) < 1e-9) return std::nullopt;
+    const Eigen::Vector3d x = d * (plane_offset / den) - c;
+    return Place{x.dot(a), x.dot(w0)};
+  };
+  const auto index_of = [&](const Eigen::Vector2d& uv) {
+    const int u = int(std::lround(uv.x())), v = int(std::lround(uv.y()));
+    return u < 0 || v < 0 || u >= f.W || v >= f.H ? -1 : v * f.W + u;
+  };
+  std::optional<Segment> best;
+  std::size_t best_points = 0;
+  std::vector<Place> places;
+  std::vector<Eigen::Vector2d> pts;
+  for (const auto& chain : chains) {
+    const std::size_t n = chain.points.size();
+    pts.clear(), places.clear();
+    for (const auto& p : chain.points) pts.emplace_back(p.x() + bu0, p.y() + bv0);
+    bool placed = true;
+    for (const auto& p : pts) {
+      const auto pl = place(p);
+      if (!pl) {
+        placed = false;
+        break;
+      }
+      places.push_back(*pl);
+    }
+    if (!placed) continue;
+    const auto beyond = [&](std::size_t k, double side) {  // beside the limb on `side`, in the zone
+      const Place& pl = places[k];
+      const double out = side * pl.q - r;
+      return out > wall && out <= kColourReach && pl.t > -half - kEdgeHeightSlack && pl.t < half;
+    };
+    const auto at_wall = [&](std::size_t k, double side) { return side * places[k].q - r <= wall; };
+    for (std::size_t k = 0; k < n;) {
+      const double side = places[k].q >= 0 ? 1.0 : -1.0;
+      if (!beyond(k, side)) {
+        ++k;
+        continue;
+      }
+      std::size_t e = k;
+      while (e + 1 < n && beyond(e + 1, side)) ++e;
+      const std::size_t first = k, last = e;
+      k = e + 1;
+      // the run leaves the limb and comes back to it (or the chain ends there, at the junction)
+      const double end_tol = wall + 2 * pixel;
+      const bool left_wall = first > 0 ? at_wall(first - 1, side) : side * places[first].q - r <= end_tol;
+      const bool met_wall = last + 1 < n ? at_wall(last + 1, side) : side * places[last].q - r <= end_tol;
+      if (!left_wall || !met_wall || last - first + 1 < std::size_t(kMinRunPoints)) continue;
+      double tmin = INFINITY, tmax = -INFINITY, reach = 0;
+      for (std::size_t j = first; j <= last; ++j)
+        tmin = std::min(tmin, places[j].t), tmax = std::max(tmax, places[j].t), reach = std::max(reach, side * places[j].q - r);
+      const double span = tmax - tmin;
+      if (reach < kMinEdgeReach || reach > kMaxReach || span < kMinSpan || span > cyl.height + kEdgeHeightSlack) continue;
+      // the handle lies between the outline and the wall: its colour is the body's on that side,
+      // and where it has depth that depth is near the axis (not an object behind)
+      const Eigen::Vector3d centre3 = c + a * (0.5 * (tmin + tmax)) + side * w0 * r;
+      const Eigen::Vector2d centre = cam->project(centre3);
+      int like = 0, with_depth = 0, near_axis = 0;
+      std::vector<int> inside;
+      for (std::size_t j = first; j <= last; ++j) {
+        const Eigen::Vector2d tangent = pts[std::min(j + 1, n - 1)] - pts[j > 0 ? j - 1 : 0];
+        if (tangent.norm() < 1e-6) continue;
+        Eigen::Vector2d normal(-tangent.y(), tangent.x());
+        normal.normalize();
+        if (normal.dot(centre - pts[j]) < 0) normal = -normal;
+        const int in = index_of(pts[j] + kSideSample * normal), out = index_of(pts[j] - kSideSample * normal);
+        if (in < 0 || out < 0) continue;
+        const Eigen::Vector3d ci = colour_of(*color, in), co = colour_of(*color, out);
+        const double di = colour_distance(ci, body_colour), dout = colour_distance(co, body_colour);
+        if (di < kColourTolerance && di < kColourContrast * dout) ++like, inside.push_back(in);
+        if (const Eigen::Vector3d x = f.p(in); x.z() > 0) {
+          ++with_depth;
+          const Eigen::Vector3d rel = x - c;
+          near_axis += (rel - a * rel.dot(a)).norm() <= r + reach + kMaxAxisGap;
+        }
+      }
+      const std::size_t points = last - first + 1;
+      if (like < kMinLikeBody * double(points)) continue;
+      if (with_depth >= kTurnedDepth * double(points) && 2 * near_axis < with_depth) continue;
+      if (points <= best_points) continue;
+      // a torus in the limb's plane
+      std::sort(inside.begin(), inside.end());
+      inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
+      best = seen_handle(cyl, side * w0, tmin, tmax, reach, std::move(inside), color);
+      best_points = points;
+    }
   }
   return best;
 }

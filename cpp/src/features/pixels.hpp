@@ -169,6 +169,15 @@ bool hold_as_cylinder(const Pixels& f, const Eigen::Vector4d& support, Segment& 
 std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const ColorImage* color,
                                      double max_turn_deg);
 
+/// A handle seen as its outline in the colour image beside `body`'s silhouette, where neither the
+/// depth nor the silhouette's colours (colour_handle) showed it: an edge chain of the zone about
+/// the body (signal::detect_edges on that box) that leaves a limb and comes back to it within the
+/// body's height, standing off it as a handle does (reach and height span), with the body's colour
+/// on its inner side and not on its outer one, and, where the inner side has depth, that depth
+/// near the axis (not an object's outline behind the body). Returns a torus in the limb's plane,
+/// attached to the wall, with the inner side's pixels; nothing without a colour image.
+std::optional<Segment> edge_handle(const Pixels& f, const Segment& body, const ColorImage* color);
+
 /// The model-driven handle search next to cylinder `body` over the pixels `region` (free ones
 /// count), with the options' HandleOptions (features/handle.hpp): at most `max_count` handles, each
 /// with at least `min_support` pixels, plausible within `limits`; their pixels are taken.

@@ -660,8 +660,14 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
                                           tapered_wall(*body, points_of(out[k].pixels), pts, eps);
                                  }),
                   found.end());
-      if (found.empty() && h.from_colour)
+      // where the depth shows no handle (none, or rings no handle has), the colour image is asked
+      const auto no_handle = [&] {
+        return std::none_of(found.begin(), found.end(), [&](const Segment& t) { return h.beside(*body, t); });
+      };
+      if (no_handle() && h.from_colour)
         if (auto t = detail::colour_handle(f, body_segment, color, h.colour_max_turn_deg)) found.push_back(std::move(*t));
+      if (no_handle() && h.from_edges)
+        if (auto t = detail::edge_handle(f, body_segment, color)) found.push_back(std::move(*t));
       for (std::size_t j : offered) {
         std::size_t shared = 0;
         for (const auto& t : found)

@@ -75,6 +75,7 @@ def detect_primitives(cloud: typing.Any, normals: typing.Any, roi: typing.Any = 
         handle_body_max_radius (float, default 0.08, 0..1): ... and at most this
         handles_from_colour (bool, default true): where the depth shows no handle, look for its silhouette beside the body in the colour image
         colour_handle_turn_deg (float, default 60, 0..75): ... in planes turned from the limbs' about the body's axis by up to this (0: the limbs' planes only)
+        handles_from_edges (bool, default true): where neither the depth nor the silhouette shows a handle, look for its outline among the colour image's edges
         max_handle_turn_deg (float, default 25, 0..90): a ring that fits better turned more than this from its body's axis is not a handle (90: no check)
     """
 def label_image(segments: collections.abc.Sequence[...], rows: typing.SupportsInt, cols: typing.SupportsInt) -> numpy.typing.NDArray[numpy.int32]:

@@ -29,7 +29,10 @@
 // not the background's, shaped as a handle (reach, height span, a loop that does not fill its box);
 // a torus in that plane, attached to the wall, stands for it. The plane is the limb's, or turned
 // about the axis by up to 60 degrees either way (a handle seen obliquely), where then part of the
-// silhouette has depth near that plane.
+// silhouette has depth near that plane. Where neither shows it (`from_edges`, detail::edge_handle),
+// its outline is looked for among the colour image's edges about the body: an edge chain that
+// leaves a limb and comes back to it, standing off it as a handle does, with the body's colour on
+// its inner side and, where that side has depth, depth near the axis (not an outline behind).
 #pragma once
 
 #include <cmath>
@@ -84,9 +87,17 @@ struct HandleOptions {
   /// ... in the limbs' planes, and in those turned about the axis by up to this (a handle seen
   /// obliquely); degrees, 0 = the limbs' planes only.
   double colour_max_turn_deg = 60.0;
+  /// Where neither shows it, look for its outline among the colour image's edges beside the body
+  /// (detail::edge_handle: a handle in the background's colours, or crossing another object).
+  bool from_edges = true;
 
   /// A handle's tube and ring radii are within the ranges (the tracker's refits).
   bool plausible(const Segment& t) const;
+
+  /// t is plausible and its ring is centred beside `body`, at least half the body's radius off its
+  /// axis (an attached ring's centre stands a ring radius less a tube radius beyond the wall; a
+  /// ring about the axis is a fit to the wall, no handle).
+  bool beside(const shapes::Cylinder& body, const Segment& t) const;
 
   /// x (camera frame) is where a handle of `body` may be: off its wall by more than `noise`
   /// (half the depth noise there) and at most max_reach, within its height less foot_margin.
@@ -113,6 +124,8 @@ inline const Fields<HandleOptions>& HandleOptions::fields() {
             "where the depth shows no handle, look for its silhouette beside the body in the colour image"),
       field("colour_handle_turn_deg", &O::colour_max_turn_deg, 0, 75,
             "... in planes turned from the limbs' about the body's axis by up to this (0: the limbs' planes only)"),
+      field("handles_from_edges", &O::from_edges,
+            "where neither the depth nor the silhouette shows a handle, look for its outline among the colour image's edges"),
       field("max_handle_turn_deg", &O::max_turn_deg, 0, 90,
             "a ring that fits better turned more than this from its body's axis is not a handle (90: no check)"),
   };

@@ -103,6 +103,29 @@ TEST(Predicates, HandleOnBodyAndItsLookalikes) {
   EXPECT_NEAR(surface_distance(handle, handle.origin() + Eigen::Vector3d(R, 0, 0)), 0.0, 1e-12);
 }
 
+// rest_gap: an axial body's lowest point above the support, from the geometry of a finite
+// cylinder (its ends' rims) against a table 0.8 m below a camera looking along it (up = -y).
+TEST(Predicates, RestGapIsTheLowestPointAboveTheSupport) {
+  Context ctx;
+  ctx.support_d = 0.8;  // up.dot(x) + 0.8: the table is the plane y = 0.8
+  const Eigen::Vector3d up = -Eigen::Vector3d::UnitY(), side = Eigen::Vector3d::UnitX();
+  // standing on the table: centre half its height up
+  const Segment standing = cylinder({0, 0.8 - 0.05, 1}, up, 0.04, 0.1);
+  EXPECT_NEAR(attribute_value(standing, "rest_gap", ctx), 0.0, 1e-12);
+  // lying on its side: axis a radius up; a cylinder through a rounded box's top, its axis 2 cm up
+  const Segment lying = cylinder({0, 0.8 - 0.033, 1}, side, 0.033, 0.12);
+  EXPECT_NEAR(attribute_value(lying, "rest_gap", ctx), 0.0, 1e-12);
+  const Segment sunk = cylinder({0, 0.8 - 0.02, 1}, side, 0.067, 0.1);
+  EXPECT_NEAR(attribute_value(sunk, "rest_gap", ctx), -0.047, 1e-12);
+  // tilted by 30 degrees: half the height times cos 30, the radius times sin 30
+  const Eigen::Vector3d tilted = std::cos(M_PI / 6) * up + std::sin(M_PI / 6) * side;
+  const Segment leaning = cylinder({0, 0.8 - 0.2, 1}, tilted, 0.04, 0.1);
+  EXPECT_NEAR(attribute_value(leaning, "rest_gap", ctx), 0.2 - 0.05 * std::cos(M_PI / 6) - 0.04 * 0.5, 1e-12);
+  // no support: nothing to pass through; no radius and height (a torus): no value
+  EXPECT_EQ(attribute_value(standing, "rest_gap", Context{}), INFINITY);
+  EXPECT_TRUE(std::isnan(attribute_value(torus({0, 0, 1}, side, 0.03, 0.005), "rest_gap", ctx)));
+}
+
 TEST(Models, ShippedFileLoadsAndSpecializes) {
   KnowledgeBase kb;
   load_models(kb, kModels);

@@ -219,7 +219,7 @@ const std::vector<std::string>& attribute_names() {
   // the classes' own (mereo/shapes/*.hpp: radius, height, minor_radius...), then every segment's
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
-    for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "inliers", "residual", "hue", "inward",
+    for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "rest_gap", "inliers", "residual", "hue", "inward",
                           "closed_end", "open_end", "bend", "rise"})
       n.push_back(g);
     return n;
@@ -243,6 +243,17 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
     return name == "tilt_deg" ? tilt : std::min(tilt, 90.0 - tilt);  // upright or lying
   }
   if (name == "elevation") return ctx.up.normalized().dot(s.origin());
+  if (name == "rest_gap") {
+    // the lowest point of a finite axial body (origin at its centre): half its height along the
+    // axis's share of up, its radius across (a lying can rests with its axis a radius up)
+    const auto axis = s.direction();
+    const auto r = s.attribute("radius"), h = s.attribute("height");
+    if (!axis || !r || !h) return NAN;
+    if (!std::isfinite(ctx.support_d)) return INFINITY;  // nothing to rest on: nothing to pass through
+    const Eigen::Vector3d up = ctx.up.normalized();
+    const double c = std::min(1.0, std::abs(axis->normalized().dot(up)));
+    return up.dot(s.origin()) + ctx.support_d - 0.5 * *h * c - *r * std::sqrt(1 - c * c);
+  }
   if (name == "inliers") return double(s.inliers);
   if (name == "residual") return s.residual;
   if (name == "hue") return s.hue;

@@ -39,7 +39,7 @@ graph::NodeSpec match_models_node() {
       }
       if (ctx.has_input("plane")) {
         const auto& p = ctx.input<extension::SupportPlane>("plane");
-        if (p.inlier_count > 0) m.context.up = p.normal;
+        if (p.inlier_count > 0) m.context.up = p.normal, m.context.support_d = p.d;
       }
       const auto& models = ctx.input<knowledge::ModelSet>("models");
       ctx.output("lattice", matching::recognize(models.kb, models.concepts, ctx.input<std::vector<Segment>>("segments"), m));

@@ -29,6 +29,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ namespace mereo::knowledge {
 
 struct Context {
   Eigen::Vector3d up = -Eigen::Vector3d::UnitY();  ///< against gravity (camera frame: -y)
+  /// The support surface's offset: up.dot(x) + support_d is a point's height above it; NaN when
+  /// there is none (then nothing is judged by its rest on it).
+  double support_d = std::numeric_limits<double>::quiet_NaN();
 };
 
 const std::vector<std::string>& builtin_predicates();
@@ -53,8 +57,10 @@ const std::vector<std::string>& predicate_params(const std::string& name);
 /// that lacks one), then tilt_deg (angle between the axis and `up`), rest_tilt_deg (the angle to
 /// the nearer of the two rest poses of a body on a table, upright and lying: min(tilt, 90 - tilt)),
 /// elevation (centre height
-/// along up, metres), inliers, residual, hue (degrees), inward (1 for a surface seen from
-/// inside: a mug's inner wall).
+/// along up, metres), rest_gap (an axial body's lowest point above the support surface, metres:
+/// negative where it would pass through it; +infinity without a support, NaN for a body without
+/// radius and height), inliers, residual, hue
+/// (degrees), inward (1 for a surface seen from inside: a mug's inner wall).
 const std::vector<std::string>& attribute_names();
 bool is_attribute(const std::string& name);
 double attribute_value(const Segment& s, const std::string& name, const Context& context);

@@ -138,6 +138,14 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
 /// or cone (radius in [min_r, max_r]) replaces a segment when it fits its points about as well.
 void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r);
 
+/// The outer walls of the open vessels of `out` of which only the inside was found (an upright
+/// inward cylinder: the far wall seen through the rim), looked for about the inside's axis
+/// (features/upright.cpp): wavy stereo depth beyond a metre can hide a mug's outer wall from the
+/// searches that do not know where its axis is. An outer wall found is appended to `out` (its
+/// radius a wall's thickness beyond the inside's, its pixels taken).
+void outer_walls(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r,
+                 const ColorImage* color);
+
 /// The upright bodies of `out` (outer walls) grown into the free pixels connected to them that fit
 /// them with the normals held loosely, as search_upright's are (wavy stereo depth leaves a
 /// bottom-up body a patch of its wall); a cylinder's circle is refitted to them, the axis held.

@@ -605,6 +605,7 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
     detail::hold_upright(f, o.support, out, o.min_radius, o.max_radius);
     detail::search_upright(f, o.support, out, o.min_support, o.min_radius, o.max_radius, o.max_primitives - int(out.size()),
                            color);
+    detail::outer_walls(f, o.support, out, o.min_radius, o.max_radius, color);
   }
   // the pixels each upright body grew by (offered to the handle search: a handle's roots)
   std::vector<std::vector<int>> grown(out.size());

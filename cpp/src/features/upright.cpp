@@ -75,6 +75,12 @@ constexpr double kMaxUprightRadius = 0.15;
 /// A body stands on the support: the lowest of its points (the kFootQuantile-th of their heights)
 /// is at most kMaxFoot above it, metres (a chair's column stands on its base, above the floor).
 constexpr double kMaxFoot = 0.04, kFootQuantile = 0.05;
+/// outer_walls: a vessel's wall is kMinWall to kMaxWall thick (metres), its outer wall is looked
+/// for from kWallFloor above the support (below, the table's pixels would fill the ring about it)
+/// and kept when at least kMinOuterPixels pixels fit it, kMinAtRim of them next to the inside.
+constexpr double kMinWall = 0.002, kMaxWall = 0.012, kWallFloor = 0.01;
+constexpr std::size_t kMinOuterPixels = 80;
+constexpr std::ptrdiff_t kMinAtRim = 10;
 /// The most an upright cone may taper and still be searched for a handle, radians (tapered mugs
 /// take up to ~10 degrees; stereo noise and a handle's roots give cylinders 3-8).
 constexpr double kMaxHandledTaper = 12.0 * M_PI / 180;
@@ -337,6 +343,75 @@ std::vector<std::vector<int>> grow_upright(Pixels& f, const Eigen::Vector4d& sup
     std::set_difference(s.pixels.begin(), s.pixels.end(), before.begin(), before.end(), std::back_inserter(added[k]));
   }
   return added;
+}
+
+void outer_walls(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r,
+                 const ColorImage* color) {
+  const Eigen::Vector3d up = support.head<3>();
+  const double norm = up.norm();
+  if (!(norm > 0.5)) return;
+  const Plane2 pl(up);
+  DetectOptions local = f.o;
+  local.normal_deviation_deg = std::max(f.o.normal_deviation_deg, kNormalDeviationDeg);
+  Pixels g(f, local);
+  const auto height = [&](const Eigen::Vector3d& x) { return (up.dot(x) + support(3)) / norm; };
+  const Eigen::Vector2d eye = pl.of(Eigen::Vector3d::Zero());  // the camera, on the plane
+  const std::size_t found = out.size();
+  for (std::size_t k = 0; k < found; ++k) {
+    const auto* inner = out[k].get_if<shapes::Cylinder>();
+    if (!inner || !out[k].inward || std::abs(inner->axis.normalized().dot(pl.up)) <= kUprightCos) continue;
+    const Eigen::Vector2d c = pl.of(inner->point);
+    const double r = inner->radius;
+    if (r + kMaxWall > max_r) continue;
+    // an outer wall about it found already
+    if (std::any_of(out.begin(), out.end(), [&](const Segment& s) {
+          const auto circle = upright_circle(pl, s);
+          return circle && (circle->c - c).norm() < r;
+        }))
+      continue;
+    // the free pixels on the camera's side of the axis, from the support up to the inside's top,
+    // up to a wall's thickness (and the noise) beyond the inside's radius
+    double top = -INFINITY;
+    for (int i : out[k].pixels) top = std::max(top, height(g.p(i)));
+    std::vector<int> near;
+    std::vector<double> dist;
+    for (int i = 0; i < g.H * g.W; ++i) {
+      if (!g.free[std::size_t(i)]) continue;
+      const Eigen::Vector3d x = g.p(i);
+      if (!x.allFinite()) continue;
+      const double h = height(x);
+      const Eigen::Vector2d d = pl.of(x) - c;
+      if (h < kWallFloor || h > top + kGrowReach || d.dot(eye - c) <= 0) continue;
+      const double tol = g.eps(x.z());
+      if (d.norm() < r - tol || d.norm() > r + kMaxWall + tol) continue;
+      near.push_back(i), dist.push_back(d.norm());
+    }
+    if (near.size() < kMinOuterPixels) continue;
+    // its radius: the median distance (the centre held), a wall's thickness at most beyond
+    std::nth_element(dist.begin(), dist.begin() + std::ptrdiff_t(dist.size() / 2), dist.end());
+    const double r_out = std::clamp(dist[dist.size() / 2], r + kMinWall, r + kMaxWall);
+    if (r_out < min_r) continue;
+    Segment s{Geometry(upright_cylinder(pl, c, r_out, pl.up.dot(inner->point)))};
+    std::vector<int> pix;
+    for (int i : near)
+      if (g.fits(s, i, +1)) pix.push_back(i);
+    if (pix.size() < kMinOuterPixels) continue;
+    // the wall meets the inside at the rim: next to it in the image, within the rim's width
+    std::vector<std::uint8_t> by_inside(g.free.size(), 0);
+    for (int i : out[k].pixels) {
+      const int reach = 2 + int(std::ceil(g.focal * (kMaxWall + kMinWall) / std::max(0.1, g.p(i).z())));
+      for (int v = std::max(0, i / g.W - reach); v <= std::min(g.H - 1, i / g.W + reach); ++v)
+        for (int u = std::max(0, i % g.W - reach); u <= std::min(g.W - 1, i % g.W + reach); ++u) by_inside[std::size_t(v * g.W + u)] = 1;
+    }
+    if (std::count_if(pix.begin(), pix.end(), [&](int i) { return by_inside[std::size_t(i)] != 0; }) < kMinAtRim) continue;
+    const HeldPoints h(g, pl, pix);
+    s.shape = Geometry(upright_cylinder(pl, c, r_out, h.height));
+    describe(g, s, std::move(pix), color);
+    set_residual(s, h.pts);
+    if (s.inward) continue;
+    for (int i : s.pixels) f.free[std::size_t(i)] = 0;
+    out.push_back(std::move(s));
+  }
 }
 
 void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,

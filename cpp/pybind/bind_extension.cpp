@@ -78,6 +78,8 @@ void bind_extension(py::module_& m) {
                                for (std::size_t i = 0; i < p.polygon.size(); ++i) out.row(i) = p.polygon[i];
                                return out;
                              })
+      .def_readonly("borders", &ext::SupportPlane::borders,
+                    "per polygon vertex, the image borders its pixel lies on (bits: 1 left, 2 right, 4 top, 8 bottom)")
       .def_property_readonly("inliers", [](const ext::SupportPlane& p) { return to_numpy(p.inliers); })
       .def_property_readonly("roi", [](const ext::SupportPlane& p) { return to_numpy(p.roi); })
       .def_property_readonly("world_from_camera",

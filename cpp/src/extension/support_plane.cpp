@@ -19,6 +19,10 @@ namespace mereo::extension {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+/// A region pixel this close to the image's border (pixels) lies on it.
+constexpr int kBorderPx = 8;
+/// Parallel planes closer than this (metres) are one support and what lies on it.
+constexpr double kMinStep = 0.05;
 
 /// Inlier tolerance at depth z: epsilon grows with z^2 (Kinect axial noise), never below
 /// its value at 0.7 m.
@@ -191,8 +195,12 @@ SupportPlane plane_with_polygon(const Cloud& cloud, const cv::Mat& region, const
   // polygon: convex hull of the region in plane coordinates. The image and the plane are related
   // by a homography, which maps convex sets to convex sets, so the hull is that of the first and
   // last region pixel of every row (at most 2 H points instead of the whole region).
+  // Each point remembers the image borders its pixel lies on (within kBorderPx: the filters
+  // leave the outermost pixels without depth).
   std::vector<cv::Point2f> pts;
+  std::vector<std::uint8_t> sides;
   const cv::Mat& bounded = extent ? *extent : region;
+  const int full_w = cloud.cols(), full_h = cloud.rows();
   for (int v = 0; v < H; ++v) {
     const std::uint8_t* m = bounded.ptr<std::uint8_t>(v);
     int first = -1, last = -1;
@@ -203,15 +211,23 @@ SupportPlane plane_with_polygon(const Cloud& cloud, const cv::Mat& region, const
       }
     if (first < 0) continue;
     for (int u : {first, last}) {
-      const float* p = cloud.ptr(stride * v, stride * u);
+      const int x = stride * u, y = stride * v;
+      const float* p = cloud.ptr(y, x);
       const Eigen::Vector3d w = T * Eigen::Vector3d(p[0], p[1], p[2]);
       pts.emplace_back(float(w.x()), float(w.y()));
+      sides.push_back(std::uint8_t((x <= kBorderPx ? SupportPlane::kLeft : 0) |
+                                   (x >= full_w - 1 - kBorderPx ? SupportPlane::kRight : 0) |
+                                   (y <= kBorderPx ? SupportPlane::kTop : 0) |
+                                   (y >= full_h - 1 - kBorderPx ? SupportPlane::kBottom : 0)));
     }
   }
-  std::vector<cv::Point2f> hull;
-  cv::convexHull(pts, hull, /*clockwise=*/false);
+  std::vector<int> hull;
+  if (!pts.empty()) cv::convexHull(pts, hull, /*clockwise=*/false, /*returnPoints=*/false);
   const Pose C = T.inverse();
-  for (const auto& h : hull) out.polygon.push_back(C * Eigen::Vector3d(h.x, h.y, 0.0));
+  for (int i : hull) {
+    out.polygon.push_back(C * Eigen::Vector3d(pts[std::size_t(i)].x, pts[std::size_t(i)].y, 0.0));
+    out.borders.push_back(sides[std::size_t(i)]);
+  }
   return out;
 }
 
@@ -256,30 +272,38 @@ MEREO_VECTOR_CLONES void height_band_row(const float* __restrict p, std::uint8_t
 
 /// region_above on every `stride`-th pixel of every `stride`-th row (the others stay 0).
 Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double min_height,
-                          double max_height, double margin, int stride) {
+                          double max_height, double margin, double beyond_border, int stride) {
   const int H = cloud.rows(), W = cloud.cols();
   Mask roi(H, W, 0);
   if (plane.polygon.size() < 3) return roi;
   // the polygon in plane coordinates (world x, y), counter-clockwise
   const Pose& T = plane.world_from_camera;
   std::vector<Eigen::Vector2d> poly = polygon_2d(plane);
-  if (signed_area2(poly) < 0) std::reverse(poly.begin(), poly.end());
+  std::vector<std::uint8_t> borders = plane.borders;
+  borders.resize(poly.size(), 0);
+  if (signed_area2(poly) < 0) {
+    std::reverse(poly.begin(), poly.end());
+    std::reverse(borders.begin(), borders.end());
+  }
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
-  // each edge as a line a x + b y + c = signed distance to its left (inside), a, b of unit length
+  // each edge as a line a x + b y + c = signed distance to its left (inside), a, b of unit
+  // length; a point is inside by `margin`, or up to beyond_border outside an edge on the border
   struct Edge {
-    float a, b, c;
+    float a, b, c, inside_by;
   };
   std::vector<Edge> edges;
   for (std::size_t i = 0; i < poly.size(); ++i) {
+    const std::size_t j = (i + 1) % poly.size();
     const Eigen::Vector2d& p = poly[i];
-    const Eigen::Vector2d e = poly[(i + 1) % poly.size()] - p;
+    const Eigen::Vector2d e = poly[j] - p;
     const double len = e.norm();
     if (len <= 0) continue;
     const double a = -e.y() / len, b = e.x() / len;
-    edges.push_back({float(a), float(b), float(-(a * p.x() + b * p.y()))});
+    const bool open = (borders[i] & borders[j]) != 0;
+    edges.push_back({float(a), float(b), float(-(a * p.x() + b * p.y())), float(open ? -beyond_border : margin)});
   }
-  const float lo = float(min_height), hi = float(max_height), inside_by = float(margin);
+  const float lo = float(min_height), hi = float(max_height);
   const int n = (W + stride - 1) / stride;  // sampled pixels per row
   tbb::parallel_for(tbb::blocked_range<int>(0, (H + stride - 1) / stride, 8), [&](const tbb::blocked_range<int>& rows) {
     std::vector<std::uint8_t> band(static_cast<std::size_t>(n));
@@ -294,7 +318,7 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
                     y = R(1, 0) * p[0] + R(1, 1) * p[1] + R(1, 2) * p[2] + t.y();
         bool inside = true;
         for (const Edge& e : edges)
-          if (e.a * x + e.b * y + e.c < inside_by) {
+          if (e.a * x + e.b * y + e.c < e.inside_by) {
             inside = false;
             break;
           }
@@ -308,8 +332,8 @@ Mask region_above_strided(const Cloud& cloud, const SupportPlane& plane, double 
 }  // namespace
 
 Mask region_above(const Cloud& cloud, const SupportPlane& plane, double min_height,
-                  double max_height, double margin) {
-  return region_above_strided(cloud, plane, min_height, max_height, margin, 1);
+                  double max_height, double margin, double beyond_border) {
+  return region_above_strided(cloud, plane, min_height, max_height, margin, beyond_border, 1);
 }
 
 SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
@@ -419,7 +443,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     // counted four times
     const SupportPlane plane = plane_with_polygon(cloud, c.region, c.n, c.d, c.centroid, kStride);
     c.area = polygon_area(plane);
-    const Mask roi = region_above_strided(cloud, plane, o.min_height, o.max_height, o.margin, kStride);
+    const Mask roi = region_above_strided(cloud, plane, o.min_height, o.max_height, o.margin, o.beyond_border, kStride);
     double on_plane = 0, above = 0;
     for (int v = 0; v < H; v += kStride) {
       const std::uint8_t* m = c.region.ptr<std::uint8_t>(v / kStride);
@@ -432,15 +456,17 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     c.weight = on_plane + std::min(above, on_plane);
     candidates.push_back(std::move(c));
   }
-  // Among planes parallel to each other, the highest one that carries a fair share of what is in
-  // view is the support (a table over the floor, a desk over a larger carpet).
+  // Among planes parallel to each other and a step apart, the highest one that carries a fair
+  // share of what is in view is the support (a table over the floor, a desk over a larger
+  // carpet); of planes closer than that (a plate or a tray on the table), the heavier.
   const Candidate* chosen = nullptr;
   double max_weight = 0;
   for (const Candidate& c : candidates) max_weight = std::max(max_weight, c.count ? c.weight : 0.0);
   for (const Candidate& c : candidates) {
     if (!c.count || c.weight < o.min_share * max_weight) continue;
     const bool parallel = chosen && c.n.dot(chosen->n) > std::cos(10 * kDeg);
-    if (!chosen || (parallel && c.area >= o.min_area ? c.d < chosen->d : c.weight > chosen->weight))
+    const bool stepped = chosen && std::abs(c.d - chosen->d) >= kMinStep;
+    if (!chosen || (parallel && stepped && c.area >= o.min_area ? c.d < chosen->d : c.weight > chosen->weight))
       chosen = &c;
   }
   if (!chosen) {
@@ -468,7 +494,7 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
   SupportPlane out = plane_with_polygon(cloud, region, n, d, centroid, 1, &extent);
   out.rms = rms;
   out.inlier_count = count;
-  out.roi = region_above(cloud, out, o.min_height, o.max_height, o.margin);
+  out.roi = region_above(cloud, out, o.min_height, o.max_height, o.margin, o.beyond_border);
   return out;
 }
 

@@ -45,6 +45,10 @@ struct SupportPlaneOptions {
   double min_height = 0.006;
   double max_height = 0.40;
   double margin = 0.0;
+  /// Where the plane's region runs into the image's border the table goes on out of view: the
+  /// region of interest reaches this far (metres) beyond such an edge of the polygon, so that an
+  /// object standing near the camera, whose foot is out of view, stays in it.
+  double beyond_border = 0.25;
 
   /// The options of the support_plane node and the find_support_plane Python function (`up`
   /// comes from the frame's pose, or is a separate argument).
@@ -63,6 +67,7 @@ inline const Fields<SupportPlaneOptions>& SupportPlaneOptions::fields() {
       field("min_height", &O::min_height, 0, 1, "ROI: lowest height above the plane, metres"),
       field("max_height", &O::max_height, 0.01, 5, "ROI: highest height above the plane, metres"),
       field("margin", &O::margin, -1, 1, "ROI: polygon shrunk by this, metres"),
+      field("beyond_border", &O::beyond_border, 0, 5, "ROI: reach beyond the polygon's edges on the image's border, metres"),
   };
   return f;
 }
@@ -72,6 +77,11 @@ struct SupportPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, towards the camera (up)
   double d = 0.0;                     ///< normal.dot(x) + d = 0 on the plane; > 0 above it
   std::vector<Eigen::Vector3d> polygon;  ///< convex hull of the plane's region, on the plane
+  /// Per polygon vertex, the image borders its pixel lies on (bits: kLeft, kRight, kTop,
+  /// kBottom). An edge between two vertices on the same border is the view's edge, not the
+  /// table's: the plane goes on beyond it.
+  std::vector<std::uint8_t> borders;
+  enum Border : std::uint8_t { kLeft = 1, kRight = 2, kTop = 4, kBottom = 8 };
   Mask inliers;                       ///< pixels of the plane (its largest connected region)
   Mask roi;                           ///< pixels above the plane, inside the polygon
   std::size_t inlier_count = 0;
@@ -95,8 +105,9 @@ struct SupportPlane {
 SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
                                 const SupportPlaneOptions& options = {});
 
-/// The region of interest of `plane` in `cloud` (what find_support_plane puts in `roi`).
+/// The region of interest of `plane` in `cloud` (what find_support_plane puts in `roi`): up to
+/// `beyond_border` metres past the polygon's edges on the image's border.
 Mask region_above(const Cloud& cloud, const SupportPlane& plane, double min_height,
-                  double max_height, double margin = 0.0);
+                  double max_height, double margin = 0.0, double beyond_border = 0.0);
 
 }  // namespace mereo::extension

@@ -128,7 +128,8 @@ void set_color(Segment& s, const ColorImage* color);
 /// (features/upright.cpp), in the free pixels of `f` and those of the segments `out` found so far.
 /// At most `max_count` are appended to `out`, each with at least `min_support` pixels, a radius in
 /// [min_r, max_r] and its foot on the support; one replaces the segments whose pixels it takes
-/// most of when it holds clearly more pixels than they did. Their pixels are taken.
+/// most of when it holds clearly more pixels than they did, and an upright body its circle would
+/// overlap when it holds twice that body's pixels (else it is no body). Their pixels are taken.
 void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,
                     double max_r, int max_count, const ColorImage* color);
 

@@ -2,6 +2,7 @@
 // their errors, specialization, and the Bayesian judgement against brute-force enumeration.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -131,11 +132,19 @@ TEST(Models, ShippedFileLoadsAndSpecializes) {
   load_models(kb, kModels);
   for (const char* n : {"container", "mug", "cup", "jar", "can", "bottle", "plate", "bowl"}) EXPECT_TRUE(kb.has(n)) << n;
   const Concept mug = kb.resolve("mug");
-  ASSERT_EQ(mug.parts.size(), 3u);
+  ASSERT_EQ(mug.parts.size(), 4u);
   EXPECT_EQ(mug.parts[0].role, "body");  // inherited from container first
   EXPECT_EQ(mug.parts[1].role, "handle");
   EXPECT_EQ(mug.parts[2].role, "inside");
   EXPECT_TRUE(mug.parts[2].optional);
+  // the inside as a cylinder or as a cone: two modalities, each with the body and the handle
+  EXPECT_EQ(mug.parts[3].role, "inside_tapered");
+  EXPECT_EQ(mug.parts[3].cls, "cone");
+  ASSERT_EQ(mug.modalities.size(), 2u);
+  for (const auto& m : mug.modalities) {
+    EXPECT_EQ(std::count(m.parts.begin(), m.parts.end(), "body"), 1) << m.name;
+    EXPECT_EQ(std::count(m.parts.begin(), m.parts.end(), "handle"), 1) << m.name;
+  }
   EXPECT_TRUE(kb.is_a("mug", "container"));
   EXPECT_FALSE(kb.is_a("plate", "container"));
   // the inherited radius range was narrowed, the tilt kept

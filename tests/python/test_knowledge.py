@@ -26,7 +26,8 @@ def test_shipped_models_and_matching():
     assert {"mug", "jar", "can", "bottle", "plate", "bowl", "cup"} <= set(kb.names())
     mug = kb.resolve("mug")
     hyps, stats = kn.match(mug, mug_segments(), best=5, up=UP)
-    assert hyps[0].assignment == [0, 1, -1]  # body, handle; the optional inner wall is not given
+    # body, handle; the optional inner wall (a cylinder, or a cone: inside_tapered) is not given
+    assert hyps[0].assignment == [0, 1, -1, -1]
     assert hyps[0].score >= 0.9 * 0.9 and hyps[0].posterior > 0.9
     assert all(h.assignment[0] != 2 for h in hyps)  # the jar with the ring beside it is no mug
     ex, ex_stats = kn.match(mug, mug_segments(), best=5, up=UP, exhaustive=True)

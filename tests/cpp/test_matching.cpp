@@ -180,12 +180,10 @@ TEST(Matching, AMugsInsideFittedAsAConeIsItsTaperedInside) {
         auto seg = part.camera.segment();
         if (!seg || !(seg->is<shapes::Cylinder>() || seg->is<shapes::Torus>() || seg->is<shapes::Cone>())) continue;
         if (part.role == "inside" && seg->is<shapes::Cylinder>()) {
-          const auto& c = seg->as<shapes::Cylinder>();
-          shapes::Cone k;
-          k.point = c.point, k.axis = c.axis, k.radius = c.radius, k.height = c.height, k.angle = 8 * M_PI / 180;
+          auto k = shapes::Cone::refined_from(seg->as<shapes::Cylinder>());
+          k.angle = 8 * M_PI / 180;
           seg->shape = Geometry(k);
         }
-        seg->inward = part.camera.inward;
         segs.push_back(*seg);
         owner.push_back(obj.id);
         const int at = int(segs.size()) - 1;

@@ -103,6 +103,8 @@ void bind_knowledge(py::module_& m) {
                      "pixels whose rays pass the end facing the camera into the body (an open vessel)")
       .def_readwrite("bend", &Segment::bend,
                      "how much an axial body bends along its axis, as its normals show (1 / m; 0: none)")
+      .def_readwrite("out_of_round", &Segment::out_of_round,
+                     "how far an axial body's cross-section is from a circle (pattern RMS over radius; 0: none)")
       .def_property_readonly("pixels",
                              [](const Segment& s) {
                                py::array_t<int> a(py::ssize_t(s.pixels.size()));

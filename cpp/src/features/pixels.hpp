@@ -120,6 +120,9 @@ void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImag
 /// How much an axial segment bends along its axis, as its pixels' normals show: Segment::bend
 /// (the pixels next to a torus among `others`, a handle's roots, left out).
 void measure_bend(const Pixels& f, Segment& s, const std::vector<Segment>& others = {});
+/// How far an axial segment seen from outside is from round across its axis, as its pixels'
+/// distances from the surface show: Segment::out_of_round (handle roots left out as above).
+void measure_out_of_round(const Pixels& f, Segment& s, const std::vector<Segment>& others = {});
 /// A segment's mean colour and hue over its pixels (nothing without a colour image).
 void set_color(Segment& s, const ColorImage* color);
 

@@ -220,7 +220,7 @@ const std::vector<std::string>& attribute_names() {
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
     for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "rest_gap", "inliers", "residual", "hue", "inward",
-                          "closed_end", "open_end", "bend", "rise"})
+                          "closed_end", "open_end", "bend", "out_of_round", "rise"})
       n.push_back(g);
     return n;
   }();
@@ -259,6 +259,7 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
   if (name == "hue") return s.hue;
   if (name == "inward") return s.inward ? 1.0 : 0.0;
   if (name == "bend") return s.bend;
+  if (name == "out_of_round") return s.out_of_round;
   if (name == "rise") {
     // where a sphere was seen, up (+1: on its top, a dome) or down (-1: below its centre, a
     // bowl's wall) along the support's normal

@@ -32,6 +32,10 @@ struct Segment {
   /// Axial solids: how much the surface bends along the axis as the normals show it (1 / m; 0 when
   /// the normals show no consistent bend): a banana fitted by a cylinder does, a can does not.
   double bend = 0.0;
+  /// Axial solids seen from outside: how far the cross-section is from a circle, as the RMS of
+  /// the pattern its pixels' distances from the surface make around the axis, over the radius (0
+  /// when they show none beyond noise): a rounded box fitted by a cylinder is, a can is not.
+  double out_of_round = 0.0;
   std::vector<int> pixels;          ///< inlier pixel indices v * width + u
 
   Segment() = default;

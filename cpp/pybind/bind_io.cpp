@@ -19,8 +19,11 @@ mereo::io::ReadOptions read_options(const py::object& intrinsics, double depth_s
   o.depth_format = mereo::io::depth_format(depth_format);
   if (py::isinstance<mereo::Intrinsics>(intrinsics))
     o.intrinsics = intrinsics.cast<mereo::Intrinsics>();
-  else if (!intrinsics.is_none())
-    o.intrinsics = mereo::io::read_intrinsics(py::str(intrinsics).cast<std::string>());
+  else if (!intrinsics.is_none()) {
+    const std::string text = py::str(intrinsics).cast<std::string>();
+    o.intrinsics = mereo::io::read_intrinsics(text);
+    o.depth_camera = mereo::io::read_depth_camera(text);  // a file's second camera, if it has one
+  }
   o.depth_scale = depth_scale;
   o.synthetic_frames = frames;
   if (!scene.is_none()) o.synthetic = scene.cast<mereo::synthetic::SceneOptions>();
@@ -67,7 +70,8 @@ void bind_io(py::module_& m) {
       });
 
   const char* kOptionsDoc =
-      "intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file; depth_scale: depth units per metre "
+      "intrinsics: Intrinsics, 'fx,fy,cx,cy' or a JSON file (its \"depth_camera\": depth from a second camera, "
+      "registered to the colour camera); depth_scale: depth units per metre "
       "(0 = the format's default); depth_format: 'units', or 'sun3d' / 'nyu-raw' for those datasets' 16-bit "
       "depth (the files do not say); frames, scene, noise, distractors: for synthetic:SEED (scene: a "
       "mereo.synthetic.SceneOptions; noise and distractors, when given, override its: distractors False, True or "

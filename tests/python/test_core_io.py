@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import mereo
+from conftest import ROOT
 
 
 def test_pcd_cloud_is_a_view_of_the_cpp_buffer(real):
@@ -196,3 +197,25 @@ def test_sun3d_and_nyu_depth_formats(real):
     assert 0.85 < z.size / nyu.depth.size < 0.97 and 0.5 < z.min() and z.max() < 10 and 2 < np.median(z) < 5
     with pytest.raises(mereo.InputError, match="depth format 'kinect' is not one of"):
         mereo.io.read(real / "open3d" / "SUN_depth.png", intrinsics=K, depth_format="kinect")
+
+
+def test_depth_from_a_second_camera_is_registered_to_the_colour_camera(real, tmp_path):
+    """An intrinsics file with a "depth_camera" (NYU's Kinect: data/cameras/nyu_depth_v2_kinect.json)
+    registers the depth to the colour camera as it is read: the frame has the colour camera's
+    intrinsics, the depth is where the colour camera sees it (how well: test_register's C++ tests),
+    and the run goes on as for any frame; a malformed depth camera is a clear error."""
+    cal = ROOT / "data" / "cameras" / "nyu_depth_v2_kinect.json"
+    nyu = real / "open3d" / "NYU_depth.pgm"
+    one = mereo.io.read(nyu, intrinsics=mereo.io.read_intrinsics(str(cal)), depth_format="nyu-raw")
+    reg = mereo.io.read(nyu, intrinsics=cal, depth_format="nyu-raw")
+    assert reg.intrinsics.fx == pytest.approx(518.858, abs=1e-3) and reg.depth.shape == reg.color.shape[:2]
+    # the depth camera's longer focal length covers less of the colour image
+    assert 0.65 < np.isfinite(reg.depth).mean() < np.isfinite(one.depth).mean() - 0.1
+    assert np.nanmedian(reg.depth) == pytest.approx(np.nanmedian(one.depth), rel=0.05)
+    r = mereo.recognize(reg)
+    assert r.get("support_plane") or r.get("warnings")
+    bad = json.loads(cal.read_text())
+    bad["depth_camera"]["to_color"][0][0] = 2.0
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    with pytest.raises(mereo.InputError, match="not a rigid transform"):
+        mereo.io.read(nyu, intrinsics=tmp_path / "bad.json", depth_format="nyu-raw")

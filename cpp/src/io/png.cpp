@@ -14,6 +14,7 @@
 #include "file_util.hpp"
 #include "mereo/core/error.hpp"
 #include "mereo/io/io.hpp"
+#include "mereo/signal/register.hpp"
 
 namespace mereo::io {
 
@@ -111,7 +112,8 @@ float depth_metres(std::uint16_t v, DepthFormat format, float inv_scale) {
 }  // namespace
 
 Frame read_png_pair(const std::string& color_path, const std::string& depth_path,
-                    const Intrinsics& intrinsics, double depth_scale, DepthFormat format) {
+                    const Intrinsics& intrinsics, double depth_scale, DepthFormat format,
+                    const std::optional<DepthCamera>& depth_camera) {
   checked_depth_scale(depth_scale, depth_path);
   const cv::Mat bgr = read_image(color_path, cv::IMREAD_COLOR);
   const cv::Mat raw = read_image(depth_path, cv::IMREAD_UNCHANGED);
@@ -121,7 +123,7 @@ Frame read_png_pair(const std::string& color_path, const std::string& depth_path
     throw InputError(depth_path + ": a depth image must have one channel of 16-bit units or 32-bit float metres, "
                      "this one has " + std::to_string(raw.channels()) + " channel(s) of " +
                      (raw.depth() == CV_8U ? "8-bit" : raw.depth() == CV_16U ? "16-bit" : "other") + " values");
-  if (bgr.size() != raw.size())
+  if (bgr.size() != raw.size() && !depth_camera)
     throw InputError(depth_path + ": depth is " + std::to_string(raw.cols) + "x" +
                      std::to_string(raw.rows) + " but colour " + color_path + " is " +
                      std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows));
@@ -142,6 +144,13 @@ Frame read_png_pair(const std::string& color_path, const std::string& depth_path
         default: z = raw.at<float>(v, u); break;  // float depth is in metres already
       }
       if (valid_depth(z)) d[u] = z;
+    }
+  }
+  if (depth_camera) {
+    try {
+      frame.depth = signal::register_depth(frame.depth, *depth_camera, intrinsics, bgr.rows, bgr.cols);
+    } catch (const InputError& e) {
+      throw InputError(depth_path + ": " + e.what());
     }
   }
   frame.validate();
@@ -236,6 +245,41 @@ Intrinsics read_intrinsics(const std::string& text_or_path, double* depth_scale)
   if (depth_scale && j.contains("depth_scale"))
     *depth_scale = checked_depth_scale(number("depth_scale"), text_or_path + ": field 'depth_scale'");
   return K;
+}
+
+std::optional<DepthCamera> read_depth_camera(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return std::nullopt;
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("depth_camera")) return std::nullopt;
+  const auto& d = j["depth_camera"];
+  const std::string what = path + ": field 'depth_camera'";
+  if (!d.is_object()) throw InputError(what + " must be an object with fx, fy, cx, cy and to_color");
+  auto number = [&](const char* key) -> double {
+    if (!d.contains(key) || !d[key].is_number()) throw InputError(what + ": missing number '" + key + "'");
+    return d[key].get<double>();
+  };
+  DepthCamera cam;
+  cam.intrinsics = {number("fx"), number("fy"), number("cx"), number("cy")};
+  if (const std::string p = cam.intrinsics.problem(); !p.empty()) throw InputError(what + ": " + p);
+  const auto& m = d.contains("to_color") ? d["to_color"] : nlohmann::json();
+  Eigen::Matrix4d T;
+  bool ok = m.is_array() && m.size() == 4;
+  for (int r = 0; ok && r < 4; ++r) {
+    ok = m[r].is_array() && m[r].size() == 4;
+    for (int c = 0; ok && c < 4; ++c) {
+      ok = m[r][c].is_number();
+      if (ok) T(r, c) = m[r][c].get<double>();
+    }
+  }
+  if (!ok) throw InputError(what + ": 'to_color' must be a 4x4 matrix of numbers (rows)");
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  if (!T.allFinite() || (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 || R.determinant() < 0 ||
+      T.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+    throw InputError(what + ": 'to_color' is not a rigid transform (a rotation, a translation, last row 0 0 0 1)");
+  cam.to_color.matrix() = T;
+  return cam;
 }
 
 }  // namespace mereo::io

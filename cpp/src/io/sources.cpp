@@ -47,12 +47,17 @@ std::string find_with_ext(const fs::path& dir, const std::string& stem, const ch
   return {};
 }
 
-// Intrinsics and depth scale for image pairs in `dir`.
-std::pair<Intrinsics, double> image_camera(const fs::path& dir, const ReadOptions& o,
-                                           const std::string& what, double default_scale,
-                                           std::optional<Intrinsics> fallback) {
+// Intrinsics, depth scale and a second depth camera for image pairs in `dir`.
+struct ImageCamera {
+  Intrinsics K;
+  double scale;
+  std::optional<DepthCamera> depth;
+};
+ImageCamera image_camera(const fs::path& dir, const ReadOptions& o, const std::string& what, double default_scale,
+                         std::optional<Intrinsics> fallback) {
   double scale = 0;
   std::optional<Intrinsics> K = o.intrinsics;
+  std::optional<DepthCamera> depth = o.depth_camera;
   // ours, NVlabs' (camera_params.json), 7-Scenes/3DMatch's (camera-intrinsics.txt, beside the
   // images or beside their sequence's folder)
   bool found = false;
@@ -62,7 +67,7 @@ std::pair<Intrinsics, double> image_camera(const fs::path& dir, const ReadOption
       if (found || (d != dir && std::string(name) != "camera-intrinsics.txt") || !fs::is_regular_file(p)) continue;
       double s = 0;
       const Intrinsics fileK = read_intrinsics(p.string(), &s);
-      if (!K) K = fileK;
+      if (!K) K = fileK, depth = read_depth_camera(p.string());
       if (s > 0) scale = s;
       found = true;
     }
@@ -72,7 +77,7 @@ std::pair<Intrinsics, double> image_camera(const fs::path& dir, const ReadOption
                             "intrinsics.json beside the images)");
   if (o.depth_scale > 0) scale = o.depth_scale;
   if (!(scale > 0)) scale = default_scale;
-  return {*K, scale};
+  return {*K, scale, depth};
 }
 
 /// A 7-Scenes/3DMatch pose file: the 4x4 camera-to-world matrix as text.
@@ -90,13 +95,13 @@ Pose read_pose_matrix(const std::string& path) {
   return P;
 }
 
-void add_pair(Sequence& seq, const std::string& id, const std::string& color,
-              const std::string& depth, const Intrinsics& K, double scale, DepthFormat format) {
+void add_pair(Sequence& seq, const std::string& id, const std::string& color, const std::string& depth,
+              const ImageCamera& camera, DepthFormat format) {
   // 7-Scenes/3DMatch: frame-N.pose.txt beside frame-N.depth.png, in a world that SLAM chose
   const fs::path pose_file = fs::path(depth).parent_path() / (id + ".pose.txt");
   const std::string pose = fs::is_regular_file(pose_file) ? pose_file.string() : std::string();
   seq.add({id, depth, [=] {
-             Frame f = read_png_pair(color, depth, K, scale, format);
+             Frame f = read_png_pair(color, depth, camera.K, camera.scale, format, camera.depth);
              f.id = id;
              if (!pose.empty()) f.pose = read_pose_matrix(pose), f.gravity_aligned = false;
              return f;
@@ -161,7 +166,7 @@ void open_tum(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
   const auto depth = read_list(dir / "depth.txt");
   std::vector<Stamped> gt;
   if (fs::is_regular_file(dir / "groundtruth.txt")) gt = read_list(dir / "groundtruth.txt");
-  const auto [K, scale] = image_camera(dir, o, dir.string(), 5000.0, Intrinsics::kinect_vga());
+  const ImageCamera camera = image_camera(dir, o, dir.string(), 5000.0, Intrinsics::kinect_vga());
   std::size_t before = seq.size();
   for (const auto& d : depth) {
     const Stamped* c = nearest(rgb, d.t, 0.02);
@@ -193,10 +198,8 @@ void open_tum(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
     const std::string id = id_text.str();
     const std::string color = (dir / c->value).string(), depth_path = (dir / d.value).string();
     const double t = d.t;
-    const Intrinsics Kc = K;
-    const double sc = scale;
     seq.add({id, depth_path, [=] {
-               Frame f = read_png_pair(color, depth_path, Kc, sc, o.depth_format);
+               Frame f = read_png_pair(color, depth_path, camera.K, camera.scale, o.depth_format, camera.depth);
                f.id = id;
                f.timestamp = t;
                f.pose = pose;
@@ -215,14 +218,14 @@ void open_folder(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
   std::sort(files.begin(), files.end());
   const std::size_t before = seq.size();
   if (fs::is_directory(dir / "rgb") && fs::is_directory(dir / "depth")) {
-    const auto [K, scale] = image_camera(dir, o, dir.string(), 1000.0, std::nullopt);
+    const ImageCamera camera = image_camera(dir, o, dir.string(), 1000.0, std::nullopt);
     std::vector<fs::path> depths;
     for (const auto& e : fs::directory_iterator(dir / "depth")) depths.push_back(e.path());
     std::sort(depths.begin(), depths.end());
     for (const auto& d : depths) {
       const std::string stem = d.stem().string();
       const std::string color = find_with_ext(dir / "rgb", stem, kColorExts, 4);
-      if (!color.empty()) add_pair(seq, stem, color, d.string(), K, scale, o.depth_format);
+      if (!color.empty()) add_pair(seq, stem, color, d.string(), camera, o.depth_format);
     }
   } else {
     std::vector<std::array<std::string, 3>> pairs;
@@ -237,8 +240,8 @@ void open_folder(Sequence& seq, const fs::path& dir, const ReadOptions& o) {
       if (split_pair(p, stem, color, depth) && depth == p.string()) pairs.push_back({stem, color, depth});
     }
     if (!pairs.empty()) {
-      const auto [K, scale] = image_camera(dir, o, dir.string(), 1000.0, std::nullopt);
-      for (const auto& [stem, color, depth] : pairs) add_pair(seq, stem, color, depth, K, scale, o.depth_format);
+      const ImageCamera camera = image_camera(dir, o, dir.string(), 1000.0, std::nullopt);
+      for (const auto& [stem, color, depth] : pairs) add_pair(seq, stem, color, depth, camera, o.depth_format);
     }
   }
   if (seq.size() == before)
@@ -297,8 +300,8 @@ Sequence open(const std::vector<std::string>& inputs, const ReadOptions& options
     if (!split_pair(p, stem, color, depth))
       throw InputError(input + ": unknown input (expected a .pcd file, NAME_depth.png with NAME_rgb.png, "
                                "NAME-depth.png with NAME-color.png, a folder, or synthetic:SEED)");
-    const auto [K, scale] = image_camera(p.parent_path(), options, input, 1000.0, std::nullopt);
-    add_pair(seq, stem, color, depth, K, scale, options.depth_format);
+    add_pair(seq, stem, color, depth, image_camera(p.parent_path(), options, input, 1000.0, std::nullopt),
+             options.depth_format);
   }
   return seq;
 }

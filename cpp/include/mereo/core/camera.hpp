@@ -44,4 +44,13 @@ struct Intrinsics {
 /// A rigid transform from the camera frame to the world frame (x_world = pose * x_camera).
 using Pose = Eigen::Isometry3d;
 
+/// A depth camera beside the colour camera (raw Kinect streams, NYU's raw frames, 7-Scenes):
+/// its intrinsics and the rigid transform from its frame to the colour camera's (x_color =
+/// to_color * x_depth, metres). A frame read with one has its depth registered to the colour
+/// camera (signal::register_depth) before colour meets depth.
+struct DepthCamera {
+  Intrinsics intrinsics;
+  Pose to_color = Pose::Identity();
+};
+
 }  // namespace mereo

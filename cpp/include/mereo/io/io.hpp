@@ -32,6 +32,10 @@ struct ReadOptions {
   /// (intrinsics.json's "depth_scale" or 1000 for PNG pairs, 5000 for TUM folders).
   double depth_scale = 0.0;
   DepthFormat depth_format = DepthFormat::Units;  ///< 16-bit depth images: see DepthFormat
+  /// Image pairs whose depth comes from a second camera: its intrinsics and its transform to the
+  /// colour camera (`intrinsics` are then the colour camera's); the depth is registered to the
+  /// colour image. When unset: the "depth_camera" of the intrinsics file, if it has one.
+  std::optional<DepthCamera> depth_camera;
   /// "synthetic:SEED": number of frames (the camera orbits the table), and the scene's options
   /// (noise and depth model, distractors, ...; its intrinsics give way to `intrinsics` when set).
   int synthetic_frames = 1;
@@ -69,10 +73,13 @@ Frame read_pcd(const std::string& path, const ReadOptions& options = {});
 /// any) as a binary-compressed organized PCD file.
 void write_pcd(const std::string& path, const Frame& frame);
 
-/// Reads a colour PNG/JPEG/PPM and a 16-bit (or 32-bit float, metres) depth image.
+/// Reads a colour PNG/JPEG/PPM and a 16-bit (or 32-bit float, metres) depth image. With
+/// `depth_camera`, the depth image is that camera's (any size) and is registered to the colour
+/// camera (`intrinsics`) before it meets the colour (signal::register_depth).
 Frame read_png_pair(const std::string& color_path, const std::string& depth_path,
                     const Intrinsics& intrinsics, double depth_scale,
-                    DepthFormat format = DepthFormat::Units);
+                    DepthFormat format = DepthFormat::Units,
+                    const std::optional<DepthCamera>& depth_camera = std::nullopt);
 /// Writes DIR/NAME_rgb.png, DIR/NAME_depth.png (16-bit, `depth_scale` units per metre, 0 =
 /// missing) and DIR/intrinsics.json. Returns the two paths written.
 std::vector<std::string> write_png_pair(const std::string& dir, const std::string& name,
@@ -81,5 +88,9 @@ std::vector<std::string> write_png_pair(const std::string& dir, const std::strin
 /// Intrinsics from "fx,fy,cx,cy" or a JSON file {"fx":..,"fy":..,"cx":..,"cy":..} (a
 /// "depth_scale" there is returned through `depth_scale` when given).
 Intrinsics read_intrinsics(const std::string& text_or_path, double* depth_scale = nullptr);
+/// The "depth_camera" of a JSON intrinsics file, when it has one: {"fx", "fy", "cx", "cy",
+/// "to_color": 4x4 rigid transform from the depth camera's frame to the colour camera's, rows}
+/// (the file's own fx, fy, cx, cy are the colour camera's). Throws InputError on a malformed one.
+std::optional<DepthCamera> read_depth_camera(const std::string& path);
 
 }  // namespace mereo::io

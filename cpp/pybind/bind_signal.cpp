@@ -1,9 +1,11 @@
 // The signal layer: per-image preprocessing (an edge-preserving depth filter, edge chains).
+#include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include "mereo/signal/depth_filter.hpp"
 #include "mereo/signal/edges.hpp"
+#include "mereo/signal/register.hpp"
 #include "numpy_view.hpp"
 #include "options.hpp"
 
@@ -12,6 +14,25 @@ namespace pu = mereo::py_util;
 
 void bind_signal(py::module_& m) {
   namespace sig = mereo::signal;
+  m.def("register_depth",
+        [](py::handle depth, const mereo::Intrinsics& depth_intrinsics, const Eigen::Matrix4d& to_color,
+           const mereo::Intrinsics& color_intrinsics, int rows, int cols) {
+          mereo::DepthCamera cam;
+          cam.intrinsics = depth_intrinsics;
+          cam.to_color.matrix() = to_color;
+          const auto d = mereo::py_util::from_numpy<float, 1>(depth, "depth");
+          mereo::DepthImage out;
+          {
+            py::gil_scoped_release release;
+            out = sig::register_depth(d, cam, color_intrinsics, rows, cols);
+          }
+          return mereo::py_util::to_numpy(out);
+        },
+        py::arg("depth"), py::arg("depth_intrinsics"), py::arg("to_color"), py::arg("color_intrinsics"), py::arg("rows"),
+        py::arg("cols"),
+        "The depth image (metres, NaN = missing) of a camera with depth_intrinsics, as the colour camera with "
+        "color_intrinsics and a rows x cols image sees it; to_color: the 4x4 transform from the depth camera's frame to "
+        "the colour camera's. NaN where no point lands (OpenCV's rgbd::registerDepth).");
   pu::register_options<sig::DepthFilterOptions>("DepthFilterOptions");
   const std::string doc = pu::takes_options(
       m, "filter_depth", "DepthFilterOptions",

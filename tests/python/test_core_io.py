@@ -219,3 +219,18 @@ def test_depth_from_a_second_camera_is_registered_to_the_colour_camera(real, tmp
     (tmp_path / "bad.json").write_text(json.dumps(bad))
     with pytest.raises(mereo.InputError, match="not a rigid transform"):
         mereo.io.read(nyu, intrinsics=tmp_path / "bad.json", depth_format="nyu-raw")
+
+
+def test_register_depth_from_python_matches_reading_with_the_depth_camera(real):
+    """mereo.signal.register_depth is the registration io.read applies with a "depth_camera"."""
+    cal = ROOT / "data" / "cameras" / "nyu_depth_v2_kinect.json"
+    nyu = real / "open3d" / "NYU_depth.pgm"
+    one = mereo.io.read(nyu, intrinsics=mereo.io.read_intrinsics(str(cal)), depth_format="nyu-raw")
+    reg = mereo.io.read(nyu, intrinsics=cal, depth_format="nyu-raw")
+    d = json.loads(cal.read_text())["depth_camera"]
+    K = mereo.Intrinsics(d["fx"], d["fy"], d["cx"], d["cy"])
+    out = mereo.signal.register_depth(one.depth, K, np.asarray(d["to_color"]), reg.intrinsics, *reg.depth.shape)
+    assert np.array_equal(np.isfinite(out), np.isfinite(reg.depth))
+    assert np.nanmax(np.abs(out - reg.depth)) == 0
+    with pytest.raises(mereo.InputError, match="not a rotation"):
+        mereo.signal.register_depth(one.depth, K, 2 * np.eye(4), reg.intrinsics, 480, 640)

@@ -18,6 +18,11 @@ class SupportPlane:
         Signed height of a camera-frame point above the plane, metres.
         """
     @property
+    def borders(self) -> list[int]:
+        """
+        per polygon vertex, the image borders its pixel lies on (bits: 1 left, 2 right, 4 top, 8 bottom)
+        """
+    @property
     def d(self) -> float:
         ...
     @property
@@ -77,6 +82,7 @@ def find_support_plane(cloud: typing.Any, normals: typing.Any, up: typing.Annota
         min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
         max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
         margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres
+        beyond_border (float, default 0.25, 0..5): ROI: reach beyond the polygon's edges on the image's border, metres
     """
 def fit_intrinsics(cloud: typing.Any) -> tuple:
     """

@@ -83,6 +83,14 @@ class Segment:
     def mean_color(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float32], "[3, 1]"]:
         ...
     @property
+    def out_of_round(self) -> float:
+        """
+        how far an axial body's cross-section is from a circle (pattern RMS over radius; 0: none)
+        """
+    @out_of_round.setter
+    def out_of_round(self, arg0: typing.SupportsFloat) -> None:
+        ...
+    @property
     def params(self) -> dict:
         """
         the class's parameters, by their JSON names

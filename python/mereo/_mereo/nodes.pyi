@@ -230,6 +230,7 @@ def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
         min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
         max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
         margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres
+        beyond_border (float, default 0.25, 0..5): ROI: reach beyond the polygon's edges on the image's border, metres
     """
 def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
     """

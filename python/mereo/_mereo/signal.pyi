@@ -3,8 +3,10 @@ Per-image depth preprocessing (the signal layer).
 """
 from __future__ import annotations
 import mereo._mereo
+import numpy
+import numpy.typing
 import typing
-__all__: list[str] = ['detect_edges', 'filter_depth']
+__all__: list[str] = ['detect_edges', 'filter_depth', 'register_depth']
 def detect_edges(color: typing.Any, **kwargs) -> list:
     """
     The edge chains of an (H, W, 3) uint8 RGB image, longest first: a list of (N, 2) float32 arrays of (x, y) image coordinates, sub-pixel, in the order the points are connected (Edge Drawing, OpenCV ximgproc).
@@ -32,4 +34,8 @@ def filter_depth(depth: typing.Any, **kwargs) -> typing.Any:
         sigma_space (float, default 1.5, 0.1..20): spatial sigma, pixels
         sigma_depth (float, default 0.004, 1e-05..0.1): range sigma at 1 m, metres (grows with z^2)
         depth_change_factor (float, default 0.02, 0.0001..1): neighbours further than this times z are ignored
+    """
+def register_depth(depth: typing.Any, depth_intrinsics: mereo._mereo.Intrinsics, to_color: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 4]"], color_intrinsics: mereo._mereo.Intrinsics, rows: typing.SupportsInt, cols: typing.SupportsInt) -> typing.Any:
+    """
+    The depth image (metres, NaN = missing) of a camera with depth_intrinsics, as the colour camera with color_intrinsics and a rows x cols image sees it; to_color: the 4x4 transform from the depth camera's frame to the colour camera's. NaN where no point lands (OpenCV's rgbd::registerDepth).
     """

@@ -274,9 +274,7 @@ std::optional<DepthCamera> read_depth_camera(const std::string& path) {
     }
   }
   if (!ok) throw InputError(what + ": 'to_color' must be a 4x4 matrix of numbers (rows)");
-  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
-  if (!T.allFinite() || (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 || R.determinant() < 0 ||
-      T.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+  if (!is_rigid(T))
     throw InputError(what + ": 'to_color' is not a rigid transform (a rotation, a translation, last row 0 0 0 1)");
   cam.to_color.matrix() = T;
   return cam;

@@ -87,11 +87,9 @@ Pose read_pose_matrix(const std::string& path) {
   for (int k = 0; k < 16; ++k)
     if (!(in >> M(k / 4, k % 4)) || !std::isfinite(M(k / 4, k % 4)))
       throw InputError(path + ": expected a 4x4 camera-to-world matrix (16 numbers)");
-  const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-  if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 || M.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
-    throw InputError(path + ": not a rigid transform (rotation and translation, last row 0 0 0 1)");
+  if (!is_rigid(M)) throw InputError(path + ": not a rigid transform (rotation and translation, last row 0 0 0 1)");
   Pose P = Pose::Identity();
-  P.linear() = R, P.translation() = M.topRightCorner<3, 1>();
+  P.linear() = M.topLeftCorner<3, 3>(), P.translation() = M.topRightCorner<3, 1>();
   return P;
 }
 

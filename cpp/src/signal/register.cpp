@@ -16,10 +16,9 @@ DepthImage register_depth(const DepthImage& depth, const DepthCamera& camera, co
   if (depth.empty()) throw InputError("register_depth: the depth image is empty");
   if (const auto p = camera.intrinsics.problem(); !p.empty()) throw InputError("register_depth: the depth camera: " + p);
   if (const auto p = color.problem(); !p.empty()) throw InputError("register_depth: the colour camera: " + p);
-  const Eigen::Matrix3d R = camera.to_color.linear();
-  if (!camera.to_color.matrix().allFinite() || (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 ||
-      R.determinant() < 0)
+  if (!is_rigid(camera.to_color.matrix()))
     throw InputError("register_depth: the depth-to-colour transform is not a rotation and a translation");
+  const Eigen::Matrix3d R = camera.to_color.linear();
   // each depth pixel's point moved into the colour camera and projected to its nearest pixel,
   // the nearest point kept (a z-buffer): what OpenCV's rgbd::registerDepth does without dilation,
   // with the rays precomputed (bench_edges: about 5x faster)

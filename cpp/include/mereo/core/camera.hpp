@@ -44,6 +44,14 @@ struct Intrinsics {
 /// A rigid transform from the camera frame to the world frame (x_world = pose * x_camera).
 using Pose = Eigen::Isometry3d;
 
+/// Whether a 4x4 matrix is a rigid transform: finite, a rotation (orthonormal within 1e-3, no
+/// reflection) and a translation, last row 0 0 0 1.
+inline bool is_rigid(const Eigen::Matrix4d& M) {
+  const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
+  return M.allFinite() && (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() <= 1e-3 && R.determinant() > 0 &&
+         M.row(3) == Eigen::RowVector4d(0, 0, 0, 1);
+}
+
 /// A depth camera beside the colour camera (raw Kinect streams, NYU's raw frames, 7-Scenes):
 /// its intrinsics and the rigid transform from its frame to the colour camera's (x_color =
 /// to_color * x_depth, metres). A frame read with one has its depth registered to the colour

@@ -163,6 +163,30 @@ TEST(Edges, ADrawnCylinderIsAnEdgeCylinderAndAnUnrelatedCircleBesideTwoLinesIsNo
   EXPECT_LT(best(apart, s).score, 0.5);
 }
 
+TEST(Edges, AShortCylindersSidesAreLinesNotPartOfItsBasesArc) {
+  // a can seen from above (rendered 9516's, drawn): sides of 30 px at x = 260 and 340 running
+  // tangentially into the near half of its base's ellipse (axes 40 x 34). An ellipse grown from
+  // a side into the base's arc held both within tolerance (one arc of axes 32 x 24 and no left
+  // side); a straight run longer than any chord of the ellipse within the split tolerance is a
+  // line, so both sides are
+  const ColorImage can = drawing([](cv::Mat& img) {
+    cv::ellipse(img, cv::Point(300, 230), cv::Size(40, 34), 0, 0, 180, cv::Scalar(60, 140, 60), cv::FILLED, cv::LINE_AA);
+    cv::rectangle(img, cv::Point(260, 200), cv::Point(340, 230), cv::Scalar(60, 140, 60), cv::FILLED);
+    cv::ellipse(img, cv::Point(300, 200), cv::Size(40, 34), 0, 0, 360, cv::Scalar(130, 230, 130), cv::FILLED, cv::LINE_AA);
+  });
+  for (auto method : {mereo::signal::EdgeMethod::Canny, mereo::signal::EdgeMethod::EdgeDrawing}) {
+    const auto s = primitives(can, method);
+    auto side = [&](double x) {
+      return std::any_of(s.begin(), s.end(), [&](const Segment& g) {
+        const auto* l = g.get_if<sh::Line>();
+        return l && std::abs(l->start_px.x() - x) < 3 && std::abs(l->end_px.x() - x) < 3 && l->length_px() > 20;
+      });
+    };
+    EXPECT_TRUE(side(260)) << "the left side, chains " << int(method);
+    EXPECT_TRUE(side(340)) << "the right side, chains " << int(method);
+  }
+}
+
 /// What the edge primitives' pixels reach of the outlines of a rendered frame's objects (not of
 /// the table, floor or walls), within 2 pixels.
 double outline_recall(const mereo::synthetic::SyntheticFrame& f, const std::vector<Segment>& s, std::size_t* count) {

@@ -19,6 +19,9 @@ namespace {
 
 using Pt = Eigen::Vector2f;
 constexpr double kDeg = M_PI / 180;
+/// A straight run this many times longer than the longest chord an arc's ellipse allows within the
+/// split tolerance is a line.
+constexpr double kStraightChord = 1.2;
 
 /// Where a chain is cut into straight pieces: indices into `p`, first and last included
 /// (Douglas-Peucker: split where the point farthest from the chord is farther than `tol`).
@@ -404,13 +407,32 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
       detail::set_color(s, &color);
       return s;
     };
-    const int pieces = int(cut.size()) - 1;
+    int pieces = int(cut.size()) - 1;
     auto turn_at = [&](int k) { return turn(p[cut[k]], p[cut[k + 1]], p[cut[k + 2]]); };  // piece k to k + 1
     const double max_turn = o.max_turn_deg * kDeg;
+    // a straight piece longer than any chord within split_tolerance_px of the ellipse grown so far
+    // (where it bends least, radius a^2 / b) is a line beside the arc, not part of it: a
+    // cylinder's side after its base's arc, which a bigger ellipse would otherwise take in too
+    // (lines longer than the ellipse's diameter are not judged by it: a small arc at a corner)
+    auto too_straight = [&](const shapes::Arc& a, double length) {
+      const double big = std::max(a.axes_px.x(), a.axes_px.y()), small = std::min(a.axes_px.x(), a.axes_px.y());
+      const double chord = std::sqrt(8 * big * big / std::max(small, 1e-6) * o.split_tolerance_px);
+      return length > kStraightChord * chord && length >= o.min_line_px && length <= 2 * big;
+    };
+    // points i..j within the split tolerance of their chord
+    auto straight = [&](int i, int j) {
+      const Eigen::Vector2f d = (p[j] - p[i]).normalized();
+      for (int q = i + 1; q < j; ++q)
+        if (std::abs(d.x() * (p[q] - p[i]).y() - d.y() * (p[q] - p[i]).x()) > o.split_tolerance_px)
+          return false;
+      return true;
+    };
     for (int k = 0; k < pieces;) {
       // an arc: pieces k..e turning the same way, grown while the ellipse holds their points
       std::optional<ArcFit> best;
+      std::vector<std::optional<ArcFit>> fit_upto;  // the fit of pieces k..e, at e - k
       int best_e = k, failed_e = -1;
+      bool at_line = false;  // the growth stopped at a line (no bisection into it)
       ConicScatter grown;  // of points cut[k] .. cut[e + 1]
       grown.origin = p[cut[k]].cast<double>();
       grown.add(p[cut[k]]);
@@ -421,9 +443,18 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
       if (k + 1 < pieces && std::abs(turn_at(k)) <= max_turn) {
         const bool left = turn_at(k) > 0;
         for (int q = cut[k] + 1; q <= cut[k + 1]; ++q) grown.add(p[q]);
+        fit_upto.emplace_back();
         for (int e = k + 1;; ++e) {
+          // the straight run of pieces ending with e: a line when longer than the arc's chords
+          int r = e;
+          while (r - 1 > k && straight(cut[r - 1], cut[e + 1])) --r;
+          if (best && best->arc.span_deg() >= o.min_arc_span_deg && too_straight(best->arc, (p[cut[e + 1]] - p[cut[r]]).norm())) {
+            best = fit_upto[std::size_t(r - 1 - k)], best_e = r - 1, failed_e = r, at_line = true;
+            break;
+          }
           for (int q = cut[e] + 1; q <= cut[e + 1]; ++q) grown.add(p[q]);
-          if (auto f = holds(grown, cut[e + 1])) best = f, best_e = e;
+          fit_upto.push_back(holds(grown, cut[e + 1]));
+          if (const auto& f = fit_upto.back()) best = f, best_e = e;
           else if (best) {
             failed_e = e;
             break;
@@ -431,7 +462,7 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
           if (e + 1 >= pieces || (turn_at(e) > 0) != left || std::abs(turn_at(e)) > max_turn) break;
         }
       }
-      if (best && failed_e >= 0) {
+      if (best && failed_e >= 0 && !at_line) {
         // the arc may end inside the piece that broke it (where the outline meets another's):
         // the last point of that piece it still holds, by bisection, its added points within the
         // RMS tolerance too (not bent into the corner); the rest of the piece stays
@@ -451,6 +482,17 @@ std::vector<Segment> fit_edge_primitives(const std::vector<signal::EdgeChain>& c
           else hi = mid;
         }
         if (lo > cut[best_e + 1]) cut[best_e + 1] = lo;
+      }
+      // nor does an arc begin with such a line, one piece or a straight run of them (the side
+      // before the base's arc): the run becomes one piece, a line, and the arc grows after it
+      if (best) {
+        int r = k;
+        while (r + 1 <= best_e && straight(cut[k], cut[r + 2])) ++r;
+        if (too_straight(best->arc, (p[cut[r + 1]] - p[cut[k]]).norm())) {
+          cut.erase(cut.begin() + k + 1, cut.begin() + r + 1);
+          pieces = int(cut.size()) - 1;
+          best.reset();
+        }
       }
       if (best && best->arc.span_deg() >= o.min_arc_span_deg) {
         shapes::Arc& a = best->arc;

@@ -371,19 +371,24 @@ def test_tapered_cups_are_recognized_by_the_shipped_graph():
     assert cups.eligible >= 6 and cups.recall >= 0.7 and cups.precision >= 0.9, (cups.found, cups.eligible, cups.correct, cups.results)
 
 
+def _kinect_freeform(seeds):
+    """The shipped graph's results on rendered Kinect-like frames with varied handles, lying
+    containers, free-form distractors and tapered cups (as eval_cameras renders them), and their
+    evaluation against the ground truth."""
+    so = mereo.synthetic.SceneOptions()
+    so.depth_model, so.handle_shapes = "kinect", "varied"
+    so.lying_containers = so.freeform_distractors = so.tapered_cups = True
+    specs = [f"synthetic:{s}" for s in seeds]
+    results = mereo.recognize_all([mereo.io.read(s, scene=so) for s in specs])
+    return results, ev.evaluate(results, ev.load_truths(specs, options=so))
+
+
 def test_cylinders_fitted_to_bananas_bend_and_are_no_containers():
     """Rendered Kinect-like frames 6002, 6004 and 6021 (tuning seeds of issue 18): a can or jar was
     accepted on a banana (a cylinder of 32-38 mm through its curve). Its normals bend along the
     axis beyond their noise (Segment.bend 3-9 / m; true bodies 0), so the container models reject it; the
     frames' true containers stay found."""
-    import mereo
-    from mereo import evaluate as ev
-
-    so = mereo.synthetic.SceneOptions()
-    so.depth_model, so.handle_shapes = "kinect", "varied"
-    so.lying_containers = so.freeform_distractors = so.tapered_cups = True
-    seeds = [f"synthetic:{s}" for s in (6002, 6004, 6021)]
-    e = ev.evaluate(mereo.recognize_all([mereo.io.read(s, scene=so) for s in seeds]), ev.load_truths(seeds, options=so))
+    _, e = _kinect_freeform((6002, 6004, 6021))
     on_bananas = [m for m in e.mistakes if "on the banana" in m]
     assert not on_bananas, on_bananas
     found = sum(s.found for s in e.models.values())
@@ -396,14 +401,7 @@ def test_cylinders_fitted_to_rounded_boxes_are_out_of_round_and_no_containers():
     whose rounded edges and flat faces a cylinder fits within 2 mm. Its points' distances from
     that cylinder make a pattern around the axis beyond their noise (Segment.out_of_round 0.04-0.07;
     round bodies 0), so the container models reject it; the frames' true objects stay found."""
-    import mereo
-    from mereo import evaluate as ev
-
-    so = mereo.synthetic.SceneOptions()
-    so.depth_model, so.handle_shapes = "kinect", "varied"
-    so.lying_containers = so.freeform_distractors = so.tapered_cups = True
-    seeds = [f"synthetic:{s}" for s in (4418, 4426, 4463)]
-    e = ev.evaluate(mereo.recognize_all([mereo.io.read(s, scene=so) for s in seeds]), ev.load_truths(seeds, options=so))
+    _, e = _kinect_freeform((4418, 4426, 4463))
     on_boxes = [m for m in e.mistakes if "on the rounded_box" in m]
     assert not on_boxes, on_boxes
     found = sum(s.found for s in e.models.values())
@@ -415,14 +413,7 @@ def test_blobs_seen_from_above_are_no_bowls():
     fitted to a blob was a round bowl. A bowl opens upwards: its wall is seen below its sphere's
     centre (the sphere's `cap`, along the support's normal: rise -0.6 to -0.1 on the true bowls of
     seeds 6000-6049), a blob's surface above it (0.55-0.87). The frames' true bowls stay found."""
-    import mereo
-    from mereo import evaluate as ev
-
-    so = mereo.synthetic.SceneOptions()
-    so.depth_model, so.handle_shapes = "kinect", "varied"
-    so.lying_containers = so.freeform_distractors = so.tapered_cups = True
-    seeds = [f"synthetic:{s}" for s in (6002, 6020, 6035, 6041)]
-    e = ev.evaluate(mereo.recognize_all([mereo.io.read(s, scene=so) for s in seeds]), ev.load_truths(seeds, options=so))
+    _, e = _kinect_freeform((6002, 6020, 6035, 6041))
     on_blobs = [m for m in e.mistakes if "on the blob" in m]
     assert not on_blobs, on_blobs
     bowls = e.models.get("bowl")
@@ -434,15 +425,7 @@ def test_a_drills_grip_cut_off_at_a_silhouette_is_no_free_form_bottle():
     is a slender region with a narrow top, but it explains only 54% of the region that grows
     from it without the silhouette cut; a free-form object must explain 90% (true bottles,
     rendered and real, explain 97-100%)."""
-    import mereo
-    from mereo import evaluate as ev
-
-    so = mereo.synthetic.SceneOptions()
-    so.depth_model, so.handle_shapes = "kinect", "varied"
-    so.lying_containers = so.freeform_distractors = so.tapered_cups = True
-    seeds = ["synthetic:5031"]
-    results = mereo.recognize_all([mereo.io.read(s, scene=so) for s in seeds])
-    e = ev.evaluate(results, ev.load_truths(seeds, options=so))
+    results, e = _kinect_freeform((5031,))
     assert not [m for m in e.mistakes if "on the drill" in m], e.mistakes
     grip = [o for o in results[0]["objects"] if o.get("modality") == "free_form" and not o["accepted"]]
     assert grip and "explains" in grip[0].get("rejected", ""), [(o["model"], o.get("rejected")) for o in grip]

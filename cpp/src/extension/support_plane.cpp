@@ -466,8 +466,11 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     if (!c.count || c.weight < o.min_share * max_weight) continue;
     const bool parallel = chosen && c.n.dot(chosen->n) > std::cos(10 * kDeg);
     const bool stepped = chosen && std::abs(c.d - chosen->d) >= kMinStep;
-    if (!chosen || (parallel && stepped && c.area >= o.min_area ? c.d < chosen->d : c.weight > chosen->weight))
-      chosen = &c;
+    // the higher of two stepped planes must itself be large enough to be a support, whichever
+    // of them came first (a box's top in front of the table is not)
+    const Candidate* higher = chosen && c.d < chosen->d ? &c : chosen;
+    const bool by_height = parallel && stepped && higher->area >= o.min_area;
+    if (!chosen || (by_height ? higher == &c : c.weight > chosen->weight)) chosen = &c;
   }
   if (!chosen) {
     std::size_t largest = 0;

@@ -81,8 +81,9 @@ struct HandleOptions {
   /// plane turned more than this about the body's axis is no handle; degrees, 90 = no check.
   double max_turn_deg = 25.0;
   double turn_residual_ratio = 0.6;
-  /// Where the depth shows no handle next to a body, look for its silhouette beside the body in
-  /// the colour image (detail::colour_handle: thin tubes beyond a metre lose their depth).
+  /// Where the depth shows no handle next to a body (or only rings wider than the body is tall),
+  /// look for its silhouette beside the body in the colour image (detail::colour_handle: thin
+  /// tubes beyond a metre lose their depth).
   bool from_colour = true;
   /// ... in the limbs' planes, and in those turned about the axis by up to this (a handle seen
   /// obliquely); degrees, 0 = the limbs' planes only.

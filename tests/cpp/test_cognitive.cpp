@@ -14,6 +14,7 @@
 #include "../bench/eval_tracking.hpp"
 #include "mereo/cognitive/landmarks.hpp"
 #include "mereo/cognitive/odometry.hpp"
+#include "mereo/cognitive/relations.hpp"
 #include "mereo/cognitive/tracking.hpp"
 #include "mereo/graph/graph.hpp"
 #include "mereo/synthetic/scene.hpp"
@@ -506,4 +507,40 @@ TEST(Odometry, AFailedAlignmentGivesWayToTheLastMotion) {
   std::printf("[ odometry ] seed 716, frames 18-23: worst step %.1f mm, %.1f mm without the check\n", gated, free);
   EXPECT_GT(free, 40.0);  // the failure is there
   EXPECT_LT(gated, 15.0);
+}
+
+// Scene relations (cognitive/relations.hpp) on an analytic scene: a table 0.5 m below the camera
+// (support normal -y), a cup on a plate, a can beside the plate, a jar behind the can as the
+// camera sees it, a box known only as an unknown region's box, and a ball floating 25 cm up.
+TEST(Relations, OnNextToAndInFrontOfFromTheObjectsShapes) {
+  const Eigen::Vector3d up(0, -1, 0);
+  const double d = 0.5;  // up.dot(x) + d = 0 at y = 0.5
+  const auto standing = [&](double x, double z, double r, double h, double base = 0) {
+    shapes::Cylinder c;
+    c.point = Eigen::Vector3d(x, 0.5 - base - h / 2, z), c.axis = up, c.radius = r, c.height = h;
+    return Segment{Geometry(c)};
+  };
+  shapes::Sphere ball;
+  ball.center = Eigen::Vector3d(0.5, 0.5 - 0.3, 0.9), ball.radius = 0.05;
+  std::vector<cognitive::PlacedObject> objects(6);
+  objects[0].id = 10, objects[0].parts = {standing(0, 1.2, 0.1, 0.015)};            // plate
+  objects[1].id = 11, objects[1].parts = {standing(0.01, 1.2, 0.04, 0.1, 0.015)};   // cup on it
+  objects[2].id = 12, objects[2].parts = {standing(0.18, 1.2, 0.033, 0.12)};        // can
+  objects[3].id = 13, objects[3].parts = {standing(0.24, 1.6, 0.04, 0.1)};          // jar behind it
+  objects[4].id = 14, objects[4].parts = {Segment{Geometry(ball)}};
+  objects[5].id = 15, objects[5].box_centre = Eigen::Vector3d(-0.3, 0.5 - 0.1, 1.0);
+  objects[5].box_size = Eigen::Vector3d(0.1, 0.1, 0.2);
+  auto got = cognitive::scene_relations(objects, up, d);
+  const int S = cognitive::Relation::kSupport;
+  std::vector<cognitive::Relation> want = {{"on", 10, S}, {"on", 11, 10}, {"on", 12, S}, {"on", 13, S}, {"on", 15, S},
+                                           {"next_to", 10, 12}, {"in_front_of", 12, 13}};
+  const auto key = [](const cognitive::Relation& r) { return std::make_tuple(r.relation, r.subject, r.object); };
+  const auto by_key = [&](const auto& a, const auto& b) { return key(a) < key(b); };
+  std::sort(got.begin(), got.end(), by_key), std::sort(want.begin(), want.end(), by_key);
+  EXPECT_EQ(got, want);
+  // lifted by 5 cm, the can rests on nothing (and is next to nothing)
+  objects[2].parts = {standing(0.18, 1.2, 0.033, 0.12, 0.05)};
+  got = cognitive::scene_relations(objects, up, d);
+  for (const auto& r : got) EXPECT_TRUE(r.subject != 12 || r.relation == "in_front_of") << r.relation << " " << r.object;
+  EXPECT_THROW(cognitive::scene_relations(objects, Eigen::Vector3d(0, -2, 0), d), InputError);
 }

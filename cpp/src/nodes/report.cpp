@@ -65,7 +65,7 @@ graph::NodeSpec report_node() {
   graph::NodeSpec s;
   s.kind = "report";
   s.doc = "The frame's JSON result: its accepted objects and their alternatives (or its tracked objects), "
-          "segments and support plane.";
+          "segments and support plane, and the scene relations between the objects (what each stands on).";
   s.inputs = {{"frame", "Frame", "the frame (its id and source)"},
               {"segments", "Segments", "the frame's segments"},
               {"objects", "Interpretation", "the frame's interpretation (interpret)"},

@@ -196,7 +196,7 @@ def odometry(**kwargs) -> mereo._mereo.NodeTemplate:
     """
 def report(**kwargs) -> mereo._mereo.NodeTemplate:
     """
-    The frame's JSON result: its accepted objects and their alternatives (or its tracked objects), segments and support plane.
+    The frame's JSON result: its accepted objects and their alternatives (or its tracked objects), segments and support plane, and the scene relations between the objects (what each stands on).
     
     Inputs:
         frame (Frame): the frame (its id and source)

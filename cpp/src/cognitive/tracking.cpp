@@ -433,12 +433,19 @@ void Tracker::spawn(const std::vector<Observation>& world, const std::vector<boo
 
 namespace detail {
 
+std::vector<const Track*> reported_tracks(const std::vector<Track>& tracks, double report) {
+  std::vector<const Track*> out;
+  for (const Track& t : tracks)
+    if (!(t.probability() < report)) out.push_back(&t);
+  return out;
+}
+
 matching::detail::Json tracks_to_json(const std::vector<Track>& tracks, const Pose& camera_to_world, double report) {
   using matching::detail::Json;
   const Pose camera_from_world = camera_to_world.inverse();
   Json out = Json::array();
-  for (const Track& t : tracks) {
-    if (t.probability() < report) continue;
+  for (const Track* track : reported_tracks(tracks, report)) {
+    const Track& t = *track;
     Json o;
     o["id"] = out.size(), o["model"] = t.model, o["score"] = t.score, o["probability"] = t.probability();
     o["accepted"] = true, o["track"] = t.id, o["in_view"] = t.seen, o["age"] = t.age;

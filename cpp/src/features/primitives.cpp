@@ -380,13 +380,6 @@ SearchRegion region_near(const Segment& segment, double margin) {
 
 namespace {
 
-/// A handle's ring spans at most about its body's height; one wider than the body's fitted
-/// height by more than this (metres; a short fit of a partly seen body, a torus fitted to a
-/// D-shaped handle) leaves the colour image asked too. Stereo depth of a band handle at a metre
-/// and more gave rings of 6.7-7 cm beside bodies 9.5-10 cm tall (seeds 7003, 7045), which no
-/// model takes, and the colour image was never asked.
-constexpr double kRingOverHeight = 0.025;
-
 /// A segment found bottom-up that may be a piece of the handle of `body` (HandleOptions::
 /// piece_in_reach): not a plane, and not an outer wall (a neighbouring body: a bottle in a pack).
 bool piece_of_handle(const Pixels& f, const Segment& body_segment, const Segment& s, const HandleOptions& h) {
@@ -742,12 +735,10 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
                                           tapered_wall(*body, points_of(out[k].pixels), pts, eps);
                                  }),
                   found.end());
-      // where the depth shows no handle (none, rings no handle has, or one whose ring the body is
-      // too short to carry), the colour image is asked
+      // where the depth shows no handle (none, or rings no handle has: HandleOptions::beside),
+      // the colour image is asked
       const auto no_handle = [&] {
-        return std::none_of(found.begin(), found.end(), [&](const Segment& t) {
-          return h.beside(*body, t) && 2 * t.as<shapes::Torus>().major_radius <= body->height + kRingOverHeight;
-        });
+        return std::none_of(found.begin(), found.end(), [&](const Segment& t) { return h.beside(*body, t); });
       };
       if (no_handle() && h.from_colour)
         if (auto t = detail::colour_handle(f, body_segment, color, h.colour_max_turn_deg)) found.push_back(std::move(*t));

@@ -43,16 +43,15 @@ std::vector<cognitive::PlacedObject> placed_objects(const std::vector<matching::
   return out;
 }
 
-/// The reported tracks (as tracks_to_json lists them), in the camera frame.
+/// The reported tracks (ids as the result gives them), in the camera frame.
 std::vector<cognitive::PlacedObject> placed_tracks(const std::vector<cognitive::Track>& tracks, const Pose& camera_to_world,
                                                    double report) {
   const Pose camera_from_world = camera_to_world.inverse();
   std::vector<cognitive::PlacedObject> out;
-  for (const auto& t : tracks) {
-    if (t.probability() < report) continue;
+  for (const cognitive::Track* t : cognitive::detail::reported_tracks(tracks, report)) {
     cognitive::PlacedObject p;
     p.id = int(out.size());
-    for (const auto& part : t.parts)
+    for (const auto& part : t->parts)
       p.parts.insert(part.role == "body" ? p.parts.begin() : p.parts.end(), cognitive::transformed(part.world, camera_from_world));
     out.push_back(std::move(p));
   }

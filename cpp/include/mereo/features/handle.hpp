@@ -81,9 +81,9 @@ struct HandleOptions {
   /// plane turned more than this about the body's axis is no handle; degrees, 90 = no check.
   double max_turn_deg = 25.0;
   double turn_residual_ratio = 0.6;
-  /// Where the depth shows no handle next to a body (or only rings wider than the body is tall),
-  /// look for its silhouette beside the body in the colour image (detail::colour_handle: thin
-  /// tubes beyond a metre lose their depth).
+  /// Where the depth shows no handle next to a body (no ring `beside` it), look for its
+  /// silhouette beside the body in the colour image (detail::colour_handle: thin tubes beyond a
+  /// metre lose their depth).
   bool from_colour = true;
   /// ... in the limbs' planes, and in those turned about the axis by up to this (a handle seen
   /// obliquely); degrees, 0 = the limbs' planes only.
@@ -97,7 +97,8 @@ struct HandleOptions {
 
   /// t is plausible and its ring is centred beside `body`, at least half the body's radius off its
   /// axis (an attached ring's centre stands a ring radius less a tube radius beyond the wall; a
-  /// ring about the axis is a fit to the wall, no handle).
+  /// ring about the axis is a fit to the wall, no handle), and spans no more than about the
+  /// body's height (its diameter at most 2.5 cm over the fitted height).
   bool beside(const shapes::Cylinder& body, const Segment& t) const;
 
   /// x (camera frame) is where a handle of `body` may be: off its wall by more than `noise`

@@ -476,15 +476,16 @@ TEST(Odometry, LandmarksHoldTheCameraWhereIcpSlidesAlongTheTable) {
 }
 
 TEST(Odometry, AFailedAlignmentGivesWayToTheLastMotion) {
-  // seed 716 (rings leaning on jars), frames 18-23 of its orbit: at frame 22 the alignment slides
-  // off (29 cm before rings were landmarks; the turn they bound keeps it to ~5 cm), with a single
-  // cylinder in view, not yet a landmark; the last motion stands in
+  // seed 716 (rings leaning on jars), its orbit's first 40 frames: somewhere the alignment slides
+  // off by several centimetres (where depends on the landmarks the primitive search finds, so on
+  // its random draws: frame 22 by 29 cm before rings were landmarks, ~5 cm after; frame 26 by 6 cm
+  // with another sampler); the last motion stands in
   synthetic::SceneOptions so;
   so.ambiguous_distractors = true;
   const synthetic::Scene scene = synthetic::generate_scene(716, so);
   std::vector<synthetic::SyntheticFrame> seq;
   std::vector<Frame> frames;
-  for (int k = 18; k <= 23; ++k) {
+  for (int k = 0; k < 40; ++k) {
     seq.push_back(synthetic::render(scene, synthetic::orbit_view(scene, k, so), so, k));
     frames.push_back(seq.back().frame), frames.back().pose.reset();
   }
@@ -504,7 +505,7 @@ TEST(Odometry, AFailedAlignmentGivesWayToTheLastMotion) {
     return worst;
   };
   const double gated = worst_step(cognitive::OdometryOptions{}.max_jump), free = worst_step(100.0);
-  std::printf("[ odometry ] seed 716, frames 18-23: worst step %.1f mm, %.1f mm without the check\n", gated, free);
+  std::printf("[ odometry ] seed 716, frames 0-39: worst step %.1f mm, %.1f mm without the check\n", gated, free);
   EXPECT_GT(free, 40.0);  // the failure is there
   EXPECT_LT(gated, 15.0);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Dense>
 
@@ -21,12 +22,18 @@ double Cone::signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n) const
   // in the plane of the axis and x: (t along the axis from `point`, rho from the axis); the
   // surface is the line rho = radius + tan(angle) t, whose outward unit normal is
   // (-sin angle, cos angle)
-  const Eigen::Vector3d a = axis.normalized();
+  // The unit axis and the angle's cosine and sine are kept per thread for the last cone seen:
+  // the loops over a segment's pixels and a refit's points ask of one cone hundreds of times in
+  // a row. They are reused only for the same bits of axis and angle, so the results are those
+  // computed afresh.
+  thread_local Eigen::Vector3d last_axis(NAN, NAN, NAN), a(NAN, NAN, NAN);
+  thread_local double last_angle = NAN, c = NAN, s = NAN;
+  if (std::memcmp(axis.data(), last_axis.data(), sizeof(double) * 3) != 0) last_axis = axis, a = axis.normalized();
+  if (std::memcmp(&angle, &last_angle, sizeof(double)) != 0) last_angle = angle, c = std::cos(angle), s = std::sin(angle);
   const Eigen::Vector3d q = x - point;
   const double t = a.dot(q);
   const Eigen::Vector3d radial = q - a * t;
   const double rho = radial.norm();
-  const double c = std::cos(angle), s = std::sin(angle);
   const Eigen::Vector3d u = rho > 0 ? Eigen::Vector3d(radial / rho) : Eigen::Vector3d(a.unitOrthogonal());
   if (n) *n = c * u - s * a;
   return (rho - radius) * c - t * s;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/plane2.hpp"
 #include "mereo/core/error.hpp"
 
 namespace mereo::cognitive {
@@ -20,11 +21,11 @@ struct Placement {
   double radius = 0;  ///< the footprint's half extent across
 };
 
-struct Frame2 {
-  Eigen::Vector3d up, e1, e2;
+/// The support's plane: footprints (Plane2) and heights above it.
+struct Frame2 : mereo::detail::Plane2 {
   double d;
+  Frame2(const Eigen::Vector3d& normal, double offset) : Plane2(normal), d(offset) {}
   double height(const Eigen::Vector3d& x) const { return up.dot(x) + d; }
-  Eigen::Vector2d of(const Eigen::Vector3d& x) const { return {e1.dot(x), e2.dot(x)}; }
 };
 
 std::optional<Placement> place(const PlacedObject& ob, const Frame2& f) {
@@ -58,8 +59,7 @@ std::vector<Relation> scene_relations(const std::vector<PlacedObject>& objects, 
                                       double d, const RelationOptions& o) {
   if (!normal.allFinite() || std::abs(normal.norm() - 1.0) > 1e-3 || !std::isfinite(d))
     throw InputError("scene relations: the support's normal must be a unit vector and d finite");
-  Frame2 f;
-  f.up = normal, f.d = d, f.e1 = normal.unitOrthogonal(), f.e2 = normal.cross(f.e1);
+  const Frame2 f(normal, d);
   const std::size_t n = objects.size();
   std::vector<std::optional<Placement>> at(n);
   for (std::size_t i = 0; i < n; ++i) at[i] = place(objects[i], f);

@@ -16,6 +16,7 @@
 #include <Eigen/Dense>
 #include <tbb/parallel_for.h>
 
+#include "core/plane2.hpp"
 #include "features/pixels.hpp"
 #include "mereo/shapes/cone.hpp"
 #include "mereo/shapes/cylinder.hpp"
@@ -90,14 +91,7 @@ constexpr std::ptrdiff_t kMinAtRim = 10;
 /// take up to ~10 degrees; stereo noise and a handle's roots give cylinders 3-8).
 constexpr double kMaxHandledTaper = 12.0 * M_PI / 180;
 
-struct Plane2 {
-  Eigen::Vector3d up, e1, e2;
-  explicit Plane2(const Eigen::Vector3d& u) : up(u.normalized()) {
-    e1 = up.unitOrthogonal();
-    e2 = up.cross(e1);
-  }
-  Eigen::Vector2d of(const Eigen::Vector3d& x) const { return {e1.dot(x), e2.dot(x)}; }
-};
+using mereo::detail::Plane2;
 
 /// The circle through points (algebraic fit, Kasa): centre and radius; false when degenerate.
 bool circle_through(const Eigen::Vector2d* q, int n, Eigen::Vector2d& centre, double& radius) {

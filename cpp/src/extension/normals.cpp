@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <vector>
 
@@ -183,23 +184,46 @@ int for_each_near(const Cloud& cloud, int v, int u, int side, JumpThreshold jt, 
   return n;
 }
 
+/// The sums of a masked least-squares fit of p = p0 + a du + b dv over a window (explicit_tangents).
+struct TangentSums {
+  float N = 0, Su = 0, Sv = 0, Suu = 0, Suv = 0, Svv = 0;
+  float sc[3] = {0, 0, 0}, su[3] = {0, 0, 0}, sv[3] = {0, 0, 0};
+};
+
+/// The normal a x b of the fit of `s` at the point c (NaN when under-determined).
+inline void finish_tangents(const TangentSums& s, const float* c, const NormalOptions& o, float* out) {
+  out[0] = out[1] = out[2] = kNaN;
+  if (s.N < float(std::max(3, o.min_points))) return;
+  // rows 1 and 2 of the adjugate of M = [[N, Su, Sv], [Su, Suu, Suv], [Sv, Suv, Svv]]
+  const float c00 = s.Suu * s.Svv - s.Suv * s.Suv, c01 = s.Sv * s.Suv - s.Su * s.Svv,
+              c02 = s.Su * s.Suv - s.Sv * s.Suu;
+  const float det = s.N * c00 + s.Su * c01 + s.Sv * c02;
+  if (!(det > 0.5f)) return;  // an integer; 0 when the pixels are collinear
+  const float c11 = s.N * s.Svv - s.Sv * s.Sv, c12 = s.Su * s.Sv - s.N * s.Suv, c22 = s.N * s.Suu - s.Su * s.Su;
+  float a[3], b[3];
+  for (int k = 0; k < 3; ++k) {
+    a[k] = c01 * s.sc[k] + c11 * s.su[k] + c12 * s.sv[k];
+    b[k] = c02 * s.sc[k] + c12 * s.su[k] + c22 * s.sv[k];
+  }
+  store_normal_f(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0], c,
+                 out);
+}
+
 /// Masked least-squares tangents at an edge pixel: fits p = p0 + a du + b dv to the points of
-/// the window (every `step`-th row and column of it) within depth_change_factor * z of the
-/// centre, n = a x b (float: the coordinates are relative to the centre, so they are small).
-void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalOptions& o,
-                       float* out, int step = 1) {
+/// the window of side `side` within depth_change_factor * z of the centre, n = a x b (float:
+/// the coordinates are relative to the centre, so they are small).
+void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalOptions& o, float* out) {
   const float* c = cloud.ptr(v, u);
   const float t = JumpThreshold(o)(c[2]);
   const int r = side / 2;
-  float N = 0, Su = 0, Sv = 0, Suu = 0, Suv = 0, Svv = 0;
-  float sc[3] = {0, 0, 0}, su[3] = {0, 0, 0}, sv[3] = {0, 0, 0};
+  TangentSums s;
   // branch-free (the accepted points of an edge window are unpredictable): a rejected or
   // missing point contributes zeros
-  for (int dvi = -r; dvi <= r; dvi += step) {
+  for (int dvi = -r; dvi <= r; ++dvi) {
     const int vv = v + dvi;
     if (vv < 0 || vv >= cloud.rows()) continue;
     const float dv = float(dvi);
-    for (int dui = -r; dui <= r; dui += step) {
+    for (int dui = -r; dui <= r; ++dui) {
       const int uu = u + dui;
       if (uu < 0 || uu >= cloud.cols()) continue;
       const float* q = cloud.ptr(vv, uu);
@@ -207,27 +231,64 @@ void explicit_tangents(const Cloud& cloud, int v, int u, int side, const NormalO
       const float m = in ? 1.f : 0.f;
       const float du = float(dui);
       const float mu = m * du, mv = m * dv;
-      N += m, Su += mu, Sv += mv, Suu += mu * du, Suv += mu * dv, Svv += mv * dv;
+      s.N += m, s.Su += mu, s.Sv += mv, s.Suu += mu * du, s.Suv += mu * dv, s.Svv += mv * dv;
       for (int k = 0; k < 3; ++k) {
         const float x = in ? q[k] - c[k] : 0.f;
-        sc[k] += x, su[k] += du * x, sv[k] += dv * x;
+        s.sc[k] += x, s.su[k] += du * x, s.sv[k] += dv * x;
       }
     }
   }
-  out[0] = out[1] = out[2] = kNaN;
-  if (N < float(std::max(3, o.min_points))) return;
-  // rows 1 and 2 of the adjugate of M = [[N, Su, Sv], [Su, Suu, Suv], [Sv, Suv, Svv]]
-  const float c00 = Suu * Svv - Suv * Suv, c01 = Sv * Suv - Su * Svv, c02 = Su * Suv - Sv * Suu;
-  const float det = N * c00 + Su * c01 + Sv * c02;
-  if (!(det > 0.5f)) return;  // an integer (times step^4); 0 when the pixels are collinear
-  const float c11 = N * Svv - Sv * Sv, c12 = Su * Sv - N * Suv, c22 = N * Suu - Su * Su;
-  float a[3], b[3];
-  for (int k = 0; k < 3; ++k) {
-    a[k] = c01 * sc[k] + c11 * su[k] + c12 * sv[k];
-    b[k] = c02 * sc[k] + c12 * su[k] + c22 * sv[k];
+  finish_tangents(s, c, o, out);
+}
+
+/// explicit_tangents of 5 x 5 windows inside the image, for the pixels `us` of row v, kLanes
+/// pixels at a time: each lane adds the same terms in the same order as explicit_tangents (the
+/// same normals), the lanes side by side (vectorized). Stereo frames send ~7% of their pixels
+/// here (20,000 a VGA frame), where one at a time they took 40% of the fast method's time.
+void explicit_tangents_5x5(const Cloud& cloud, int v, const int* us, int count, const NormalOptions& o,
+                           NormalMap& out) {
+  constexpr int kLanes = 8, r = 2;
+  const JumpThreshold jt(o);
+  for (int first = 0; first < count; first += kLanes) {
+    const int n = std::min(kLanes, count - first);
+    int col[kLanes];
+    float cx[kLanes], cy[kLanes], cz[kLanes], t[kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+      col[l] = us[first + (l < n ? l : 0)];  // (spare lanes repeat the first pixel)
+      const float* c = cloud.ptr(v, col[l]);
+      cx[l] = c[0], cy[l] = c[1], cz[l] = c[2], t[l] = jt(c[2]);
+    }
+    float N[kLanes] = {}, Su[kLanes] = {}, Sv[kLanes] = {}, Suu[kLanes] = {}, Suv[kLanes] = {}, Svv[kLanes] = {};
+    float sc[3][kLanes] = {}, su[3][kLanes] = {}, sv[3][kLanes] = {};
+    for (int dvi = -r; dvi <= r; ++dvi) {
+      const float* row = cloud.ptr(v + dvi, 0);
+      const float dv = float(dvi);
+      for (int dui = -r; dui <= r; ++dui) {
+        const float du = float(dui);
+        float qx[kLanes], qy[kLanes], qz[kLanes];
+        for (int l = 0; l < kLanes; ++l) {
+          const float* q = row + 3 * (col[l] + dui);
+          qx[l] = q[0], qy[l] = q[1], qz[l] = q[2];
+        }
+        for (int l = 0; l < kLanes; ++l) {
+          const bool in = std::abs(qz[l] - cz[l]) <= t[l];
+          const float m = in ? 1.f : 0.f;
+          const float mu = m * du, mv = m * dv;
+          N[l] += m, Su[l] += mu, Sv[l] += mv, Suu[l] += mu * du, Suv[l] += mu * dv, Svv[l] += mv * dv;
+          const float x = in ? qx[l] - cx[l] : 0.f, y = in ? qy[l] - cy[l] : 0.f, z = in ? qz[l] - cz[l] : 0.f;
+          sc[0][l] += x, su[0][l] += du * x, sv[0][l] += dv * x;
+          sc[1][l] += y, su[1][l] += du * y, sv[1][l] += dv * y;
+          sc[2][l] += z, su[2][l] += du * z, sv[2][l] += dv * z;
+        }
+      }
+    }
+    for (int l = 0; l < n; ++l) {
+      TangentSums s;
+      s.N = N[l], s.Su = Su[l], s.Sv = Sv[l], s.Suu = Suu[l], s.Suv = Suv[l], s.Svv = Svv[l];
+      for (int k = 0; k < 3; ++k) s.sc[k] = sc[k][l], s.su[k] = su[k][l], s.sv[k] = sv[k][l];
+      finish_tangents(s, cloud.ptr(v, col[l]), o, out.ptr(v, col[l]));
+    }
   }
-  store_normal_f(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0], c,
-               out);
 }
 
 /// PCA of the accepted points of an edge pixel's window.
@@ -317,6 +378,7 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
     std::vector<std::uint16_t> cv(W), cnt(W), cv3(W), cnt3(W);
     std::vector<float> zbuf;
     std::vector<std::uint8_t> bad;  // bad-pixel flags of rows ya..yb
+    std::vector<int> batched;       // a row's pixels for explicit_tangents_5x5
     for (int b = br.begin(); b < br.end(); ++b) {
       const int v0 = b * block, v1 = std::min(H, v0 + block);
       const int ya = std::max(0, v0 - r), yb = std::min(H, v1 + r);
@@ -342,6 +404,8 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
       for (int v = v0; v < v1; ++v) {
         float* nrow = out.ptr(v, 0);
         const float* prow = cloud.ptr(v, 0);
+        const bool batch_5x5 = std::min(o.window, 5) == 5 && v >= 2 && v + 2 < H;
+        batched.clear();
         const bool rows_inside = v - r >= 0 && v + r < H;
         if (rows_inside) {
           for (int c = 0; c < 3; ++c) {
@@ -435,11 +499,15 @@ void fast_normals_r(const Cloud& cloud, const NormalOptions& o, NormalMap& out) 
             store_normal_f(a[1] * bb[2] - a[2] * bb[1], a[2] * bb[0] - a[0] * bb[2],
                          a[0] * bb[1] - a[1] * bb[0], p, n);
           } else if (valid_point(p)) {
-            explicit_tangents(cloud, v, u, std::min(o.window, 5), o, n);
+            if (batch_5x5 && u >= 2 && u + 2 < W)
+              batched.push_back(u);  // (below, side by side)
+            else
+              explicit_tangents(cloud, v, u, std::min(o.window, 5), o, n);
           } else {
             n[0] = n[1] = n[2] = kNaN;
           }
         }
+        explicit_tangents_5x5(cloud, v, batched.data(), int(batched.size()), o, out);
       }
     }
   });

@@ -1143,3 +1143,49 @@ TEST(Features, AStandingBodyDisplacesAWeakerUprightCircleItWouldOverlap) {
   EXPECT_EQ(weak_dropped, beside_weak);
   EXPECT_EQ(beside_strong, 0);
 }
+
+// The refits' closed-form gradient of the range residual (the Jacobian of their Levenberg-
+// Marquardt) against central differences of the residual itself, over pack()'s parameters with
+// an axis of any length: cylinders seen from outside and inside (near and far crossings), rays
+// that graze or miss (the geometric fallback), and spheres.
+TEST(Features, TheRangeResidualsGradientMatchesItsDifferences) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int checked = 0;
+  const auto check = [&](const auto& shape, Eigen::VectorXd packed, const Eigen::Vector3d& x) {
+    auto s = shape;
+    s.unpack(packed);
+    std::vector<double> grad(std::size_t(packed.size()));
+    const double r0 = s.range_residual(x, packed, grad.data());
+    ASSERT_NEAR(r0, s.range_residual(x), 1e-12);  // the same value as the residual the refits minimise
+    for (int k = 0; k < packed.size(); ++k) {
+      const double h = 1e-7;
+      Eigen::VectorXd p = packed, m = packed;
+      p(k) += h, m(k) -= h;
+      auto sp = shape, sm = shape;
+      sp.unpack(p), sm.unpack(m);
+      const double numeric = (sp.range_residual(x) - sm.range_residual(x)) / (2 * h);
+      EXPECT_NEAR(grad[std::size_t(k)], numeric, 1e-5 * std::max(1.0, std::abs(numeric)))
+          << "parameter " << k << " at x = " << x.transpose() << ", parameters " << packed.transpose();
+    }
+    ++checked;
+  };
+  for (int trial = 0; trial < 300; ++trial) {
+    mereo::shapes::Cylinder c;
+    c.point = Eigen::Vector3d(0.3 * U(rng), 0.3 * U(rng), 1.0 + 0.5 * U(rng));
+    c.axis = Eigen::Vector3d(U(rng), U(rng), U(rng)).normalized();
+    c.radius = 0.03 + 0.05 * std::abs(U(rng));
+    Eigen::VectorXd packed = c.pack();
+    packed.segment<3>(3) *= 0.5 + std::abs(U(rng));  // the refits' axis drifts from unit length
+    // a point near the wall at a random angle, a little off it (some rays graze or miss)
+    const Eigen::Vector3d e1 = c.axis.unitOrthogonal(), e2 = c.axis.cross(e1);
+    const double phi = M_PI * U(rng);
+    const Eigen::Vector3d x = c.point + c.axis * (0.05 * U(rng)) +
+                              (c.radius + 0.004 * U(rng)) * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    check(c, packed, x);
+    mereo::shapes::Sphere s;
+    s.center = c.point, s.radius = c.radius;
+    check(s, s.pack(), x);
+  }
+  EXPECT_EQ(checked, 600);
+}

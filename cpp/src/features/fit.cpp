@@ -2,6 +2,8 @@
 #include "features/fit.hpp"
 
 #include <cmath>
+#include <type_traits>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -12,21 +14,19 @@ namespace mereo::features::detail {
 /// steps took a third of the primitive search's refits (bench_pipeline, perf).
 constexpr double kMinGain = 1e-8;
 
-void levenberg_marquardt(Eigen::VectorXd& x, int N,
-                         const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& f) {
+namespace {
+
+/// Levenberg-Marquardt on residuals r(x) (N of them); `jacobian(x, r, J)` fills J at x (r holds
+/// the residuals at x).
+template <class F, class Jacobian>
+void lm(Eigen::VectorXd& x, int N, const F& f, const Jacobian& jacobian) {
   const int P = int(x.size());
   Eigen::VectorXd r(N), r2(N);
   f(x, r);
   double cost = r.squaredNorm(), lambda = 1e-3;
   Eigen::MatrixXd J(N, P);
   for (int it = 0; it < 30; ++it) {
-    for (int k = 0; k < P; ++k) {
-      Eigen::VectorXd xp = x;
-      const double h = 1e-6 * std::max(1.0, std::abs(x(k)));
-      xp(k) += h;
-      f(xp, r2);
-      J.col(k) = (r2 - r) / h;
-    }
+    jacobian(x, r, J);
     const Eigen::MatrixXd A = J.transpose() * J;
     const Eigen::VectorXd g = J.transpose() * r;
     bool improved = false;
@@ -49,6 +49,30 @@ void levenberg_marquardt(Eigen::VectorXd& x, int N,
     }
     if (!improved) break;
   }
+}
+
+/// Shapes whose range residual has an analytic gradient over their packed parameters.
+template <class S, class = void>
+struct has_range_gradient : std::false_type {};
+template <class S>
+struct has_range_gradient<S, std::void_t<decltype(std::declval<const S&>().range_residual(
+                                 Eigen::Vector3d(), Eigen::VectorXd(), static_cast<double*>(nullptr)))>>
+    : std::true_type {};
+
+}  // namespace
+
+void levenberg_marquardt(Eigen::VectorXd& x, int N,
+                         const std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)>& f) {
+  Eigen::VectorXd r2(N);
+  lm(x, N, f, [&](const Eigen::VectorXd& at, const Eigen::VectorXd& r, Eigen::MatrixXd& J) {
+    for (int k = 0; k < int(at.size()); ++k) {  // forward differences
+      Eigen::VectorXd xp = at;
+      const double h = 1e-6 * std::max(1.0, std::abs(at(k)));
+      xp(k) += h;
+      f(xp, r2);
+      J.col(k) = (r2 - r) / h;
+    }
+  });
 }
 
 void set_residual(Segment& s, const std::vector<Eigen::Vector3d>& points) {
@@ -81,6 +105,27 @@ Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& poin
     std::vector<Eigen::Vector3d> buffer;
     const auto& pts = subsample_into(points, buffer, kFitPoints);
     const int N = int(pts.size());
+    if constexpr (has_range_gradient<S>::value) {
+      if (residual == Residual::AlongRay) {  // the gradient in closed form: one pass per Jacobian
+        const auto f = [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+          S t = start;
+          t.unpack(v);
+          for (int i = 0; i < N; ++i) r(i) = t.range_residual(pts[i], v, nullptr);
+        };
+        lm(x, N, f, [&](const Eigen::VectorXd& v, const Eigen::VectorXd&, Eigen::MatrixXd& J) {
+          S t = start;
+          t.unpack(v);
+          Eigen::Matrix<double, 1, Eigen::Dynamic> row(v.size());
+          for (int i = 0; i < N; ++i) {
+            t.range_residual(pts[i], v, row.data());
+            J.row(i) = row;
+          }
+        });
+        g0 = start;
+        g0.unpack(x);
+        return;
+      }
+    }
     levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
       S t = start;
       t.unpack(v);

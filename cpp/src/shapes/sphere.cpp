@@ -40,6 +40,10 @@ double Sphere::range_residual(const Eigen::Vector3d& x) const {
   return ray_residual(x, center, nullptr, radius, [&] { return signed_distance(x); });
 }
 
+double Sphere::range_residual(const Eigen::Vector3d& x, const Eigen::VectorXd&, double* grad) const {
+  return ray_residual_gradient(x, center, nullptr, radius, 1.0, grad);
+}
+
 void Sphere::set_extent(const std::vector<Eigen::Vector3d>& inliers) {
   cap.setZero();
   for (const auto& p : inliers)

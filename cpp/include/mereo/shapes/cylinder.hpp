@@ -34,6 +34,8 @@ struct Cylinder {
   void unpack(const Eigen::VectorXd& v);
   bool fit_direct(const std::vector<Eigen::Vector3d>&) { return false; }
   double range_residual(const Eigen::Vector3d& x) const;
+  /// range_residual and its gradient over pack()'s 7 parameters at `packed` (this cylinder unpacked)
+  double range_residual(const Eigen::Vector3d& x, const Eigen::VectorXd& packed, double* grad) const;
   void set_extent(const std::vector<Eigen::Vector3d>& points);
   void canonical() {}
   void transform(const Eigen::Isometry3d& T) { point = T * point, axis = T.linear() * axis; }
@@ -68,6 +70,63 @@ double ray_residual(const Eigen::Vector3d& x, const Eigen::Vector3d& centre, con
   if (cos_in < kMinCos || ww < 1e-12) return geometric() / (kMinCos * std::sqrt(std::max(ww, 1e-12)));
   const double near = (wc - std::sqrt(disc)) / ww, far = (wc + std::sqrt(disc)) / ww;
   return std::abs(range - near) <= std::abs(range - far) ? near - range : range - far;
+}
+
+/// ray_residual with the geometric distance of a cylinder (a sphere: no axis), and its gradient:
+/// `grad` gets d residual / d (centre (3), axis (3, when there is one; `axis_scale` is the length
+/// of the unnormalised axis the unit one came from), radius). The crossing's range t solves
+/// F(t) = |t w - c|^2 - r^2 = 0, so dt = -dF / (dF/dt) with g = t w - c the radial vector there:
+/// dt/dcentre = g / (g . w), dt/daxis = (axis . (t d - centre)) g / (g . w) (within the plane
+/// orthogonal to the axis, over axis_scale), dt/dr = r / (g . w). The same value as ray_residual.
+inline double ray_residual_gradient(const Eigen::Vector3d& x, const Eigen::Vector3d& centre,
+                                    const Eigen::Vector3d* unit_axis, double radius, double axis_scale,
+                                    double* grad) {
+  const int R = unit_axis ? 6 : 3;  // (the radius' index)
+  // the geometric distance (signed_distance) and its gradient, divided by `scale`
+  const auto geometric = [&](double scale) {
+    const Eigen::Vector3d q = x - centre;
+    const Eigen::Vector3d h = unit_axis ? Eigen::Vector3d(q - *unit_axis * unit_axis->dot(q)) : q;
+    const double l = h.norm(), value = l - radius;
+    if (grad) {
+      const Eigen::Vector3d hn = l > 0 ? Eigen::Vector3d(h / l) : Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) grad[k] = -hn(k) / scale;
+      if (unit_axis)
+        for (int k = 0; k < 3; ++k) grad[3 + k] = -unit_axis->dot(q) * hn(k) / axis_scale / scale;
+      grad[R] = -1.0 / scale;
+    }
+    return value / scale;
+  };
+  const double range = x.norm();
+  if (!(range > 0)) return geometric(1.0);
+  const Eigen::Vector3d d = x / range;
+  Eigen::Vector3d w = d, c = centre;
+  if (unit_axis) w -= *unit_axis * unit_axis->dot(d), c -= *unit_axis * unit_axis->dot(centre);
+  const double ww = w.squaredNorm(), wc = w.dot(c);
+  const double disc = wc * wc - ww * (c.squaredNorm() - radius * radius);
+  constexpr double kMinCos = 0.17;
+  const double cos_in = disc > 0 && ww > 0 ? std::sqrt(disc / ww) / radius : 0.0;
+  if (cos_in < kMinCos || ww < 1e-12) {
+    const double s = std::sqrt(std::max(ww, 1e-12));
+    const double value = geometric(kMinCos * s);
+    // the incidence factor 1 / s turns with the axis: d s / d axis = -(axis . d) w / s
+    if (grad && unit_axis && ww >= 1e-12)
+      for (int k = 0; k < 3; ++k) grad[3 + k] += value / s * unit_axis->dot(d) * w(k) / s / axis_scale;
+    return value;
+  }
+  const double near = (wc - std::sqrt(disc)) / ww, far = (wc + std::sqrt(disc)) / ww;
+  const bool near_side = std::abs(range - near) <= std::abs(range - far);
+  if (grad) {
+    const double t = near_side ? near : far, sign = near_side ? 1.0 : -1.0;
+    const Eigen::Vector3d g = t * w - c;
+    const double gw = g.dot(w);
+    for (int k = 0; k < 3; ++k) grad[k] = sign * g(k) / gw;
+    if (unit_axis) {
+      const double along = unit_axis->dot(t * d - centre);
+      for (int k = 0; k < 3; ++k) grad[3 + k] = sign * along * g(k) / gw / axis_scale;
+    }
+    grad[R] = sign * radius / gw;
+  }
+  return near_side ? near - range : range - far;
 }
 
 }  // namespace mereo::shapes

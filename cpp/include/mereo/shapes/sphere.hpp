@@ -30,6 +30,8 @@ struct Sphere {
   void unpack(const Eigen::VectorXd& v) { center = v.head<3>(), radius = v(3); }
   bool fit_direct(const std::vector<Eigen::Vector3d>&) { return false; }
   double range_residual(const Eigen::Vector3d& x) const;
+  /// range_residual and its gradient over pack()'s 4 parameters
+  double range_residual(const Eigen::Vector3d& x, const Eigen::VectorXd& packed, double* grad) const;
   void set_extent(const std::vector<Eigen::Vector3d>& inliers);
   void canonical() {}
   void transform(const Eigen::Isometry3d& T) { center = T * center, cap = T.linear() * cap; }

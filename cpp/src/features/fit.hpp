@@ -33,7 +33,8 @@ void levenberg_marquardt(Eigen::VectorXd& x, int N,
 enum class Residual { Geometric, AlongRay };
 
 /// The shape refined to the points: its closed-form fit where it has one (planes: PCA), else
-/// Levenberg-Marquardt on `residual` from `s`. Sets residual (RMS of the geometric distance).
+/// Levenberg-Marquardt on `residual` from `s` (its Jacobian in closed form where the class gives
+/// the range residual's gradient: cylinders, spheres). Sets residual (RMS of the geometric distance).
 Segment refit_points(const Segment& s, const std::vector<Eigen::Vector3d>& points,
                      Residual residual = Residual::Geometric);
 

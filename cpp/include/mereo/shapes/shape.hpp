@@ -30,6 +30,8 @@
 //   bool fit_direct(const std::vector<Eigen::Vector3d>&);   a closed-form refit (plane: PCA); false
 //                                             when the class has none
 //   double range_residual(const Eigen::Vector3d& x) const;  range error along x's ray
+//   double range_residual(x, packed, double* grad) const;   optional: the same and its gradient over
+//                                             pack()'s parameters (the refit's Jacobian in closed form)
 //   void set_extent(const std::vector<Eigen::Vector3d>& inliers);   visible extent, centroid
 //   void canonical();                         a sign convention (a plane's normal faces the camera)
 //   void transform(const Eigen::Isometry3d& T);

@@ -479,7 +479,9 @@ TEST(Odometry, AFailedAlignmentGivesWayToTheLastMotion) {
   // seed 716 (rings leaning on jars), its orbit's first 40 frames: somewhere the alignment slides
   // off by several centimetres (where depends on the landmarks the primitive search finds, so on
   // its random draws: frame 22 by 29 cm before rings were landmarks, ~5 cm after; frame 26 by 6 cm
-  // with another sampler); the last motion stands in
+  // with another sampler); the last motion stands in. Worst steps seen without the check / with
+  // it: 44.3 / 9.0 mm, 44.9 / 9.4 and 58.3 / 8.1 (three samplers), 33.5 / 9.0 (closed-form refit
+  // Jacobians); a step stays within a few millimetres where the alignment holds
   synthetic::SceneOptions so;
   so.ambiguous_distractors = true;
   const synthetic::Scene scene = synthetic::generate_scene(716, so);
@@ -506,7 +508,7 @@ TEST(Odometry, AFailedAlignmentGivesWayToTheLastMotion) {
   };
   const double gated = worst_step(cognitive::OdometryOptions{}.max_jump), free = worst_step(100.0);
   std::printf("[ odometry ] seed 716, frames 0-39: worst step %.1f mm, %.1f mm without the check\n", gated, free);
-  EXPECT_GT(free, 40.0);  // the failure is there
+  EXPECT_GT(free, 25.0);  // the failure is there
   EXPECT_LT(gated, 15.0);
 }
 

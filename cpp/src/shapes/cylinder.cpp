@@ -64,11 +64,11 @@ void Cylinder::unpack(const Eigen::VectorXd& v) {
 }
 
 double Cylinder::range_residual(const Eigen::Vector3d& x) const {
-  return ray_residual(x, point, &axis, radius, [&] { return signed_distance(x); });
+  return ray_residual(x, point, &axis, radius);
 }
 
 double Cylinder::range_residual(const Eigen::Vector3d& x, const Eigen::VectorXd& packed, double* grad) const {
-  return ray_residual_gradient(x, point, &axis, radius, packed.segment<3>(3).norm(), grad);
+  return ray_residual(x, point, &axis, radius, packed.segment<3>(3).norm(), grad);
 }
 
 void Cylinder::set_extent(const std::vector<Eigen::Vector3d>& points) {

@@ -37,11 +37,11 @@ Eigen::VectorXd Sphere::pack() const {
 }
 
 double Sphere::range_residual(const Eigen::Vector3d& x) const {
-  return ray_residual(x, center, nullptr, radius, [&] { return signed_distance(x); });
+  return ray_residual(x, center, nullptr, radius);
 }
 
 double Sphere::range_residual(const Eigen::Vector3d& x, const Eigen::VectorXd&, double* grad) const {
-  return ray_residual_gradient(x, center, nullptr, radius, 1.0, grad);
+  return ray_residual(x, center, nullptr, radius, 1.0, grad);
 }
 
 void Sphere::set_extent(const std::vector<Eigen::Vector3d>& inliers) {

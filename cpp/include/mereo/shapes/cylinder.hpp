@@ -54,33 +54,14 @@ struct Cylinder {
 /// far one on an inner wall: signed_distance's sign). A depth sensor's noise lies along the ray
 /// (Nguyen, Izadi, Lovell 2012), so this is the maximum-likelihood residual. Grazing rays
 /// (incidence past ~80 degrees, or a miss), where the range is ill-defined, continue with
-/// `geometric()` (the signed distance) turned into range at that incidence.
-template <class Geometric>
-double ray_residual(const Eigen::Vector3d& x, const Eigen::Vector3d& centre, const Eigen::Vector3d* unit_axis,
-                    double radius, Geometric geometric) {
-  const double range = x.norm();
-  if (!(range > 0)) return geometric();
-  const Eigen::Vector3d d = x / range;
-  Eigen::Vector3d w = d, c = centre;
-  if (unit_axis) w -= *unit_axis * unit_axis->dot(d), c -= *unit_axis * unit_axis->dot(centre);
-  const double ww = w.squaredNorm(), wc = w.dot(c);
-  const double disc = wc * wc - ww * (c.squaredNorm() - radius * radius);  // (r cos(incidence))^2 * ww
-  constexpr double kMinCos = 0.17;
-  const double cos_in = disc > 0 && ww > 0 ? std::sqrt(disc / ww) / radius : 0.0;
-  if (cos_in < kMinCos || ww < 1e-12) return geometric() / (kMinCos * std::sqrt(std::max(ww, 1e-12)));
-  const double near = (wc - std::sqrt(disc)) / ww, far = (wc + std::sqrt(disc)) / ww;
-  return std::abs(range - near) <= std::abs(range - far) ? near - range : range - far;
-}
-
-/// ray_residual with the geometric distance of a cylinder (a sphere: no axis), and its gradient:
-/// `grad` gets d residual / d (centre (3), axis (3, when there is one; `axis_scale` is the length
-/// of the unnormalised axis the unit one came from), radius). The crossing's range t solves
+/// the geometric (signed) distance turned into range at that incidence.
+/// With `grad`, also d residual / d (centre (3), axis (3, when there is one; `axis_scale` is the
+/// length of the unnormalised axis the unit one came from), radius): the crossing's range t solves
 /// F(t) = |t w - c|^2 - r^2 = 0, so dt = -dF / (dF/dt) with g = t w - c the radial vector there:
 /// dt/dcentre = g / (g . w), dt/daxis = (axis . (t d - centre)) g / (g . w) (within the plane
-/// orthogonal to the axis, over axis_scale), dt/dr = r / (g . w). The same value as ray_residual.
-inline double ray_residual_gradient(const Eigen::Vector3d& x, const Eigen::Vector3d& centre,
-                                    const Eigen::Vector3d* unit_axis, double radius, double axis_scale,
-                                    double* grad) {
+/// orthogonal to the axis, over axis_scale), dt/dr = r / (g . w).
+inline double ray_residual(const Eigen::Vector3d& x, const Eigen::Vector3d& centre, const Eigen::Vector3d* unit_axis,
+                           double radius, double axis_scale = 1.0, double* grad = nullptr) {
   const int R = unit_axis ? 6 : 3;  // (the radius' index)
   // the geometric distance (signed_distance) and its gradient, divided by `scale`
   const auto geometric = [&](double scale) {

@@ -85,6 +85,19 @@ TEST(Predicates, HandleOnBodyAndItsLookalikes) {
   // ring plane not containing the axis direction
   const Segment flat = torus({0.04 + k * R, 0, 1}, up, R, 0.006);
   EXPECT_DOUBLE_EQ(evaluate(perp, {&flat, &body}, ctx), 0.0);
+  // a ring turned about the body's axis: perpendicular to it still, but not in a plane through
+  // it (a rim's or a neighbour's wall fitted as a ring); a ring centred on the axis has no such plane
+  Constraint rad{"radial", {"handle", "body"}, {{"tolerance_deg", 15.0}}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(rad, {&handle, &body}, ctx), 1.0);
+  const double turn = 40 * M_PI / 180;
+  const Segment turned = torus({0.04 + k * R, 0, 1}, {std::sin(turn), 0, std::cos(turn)}, R, 0.006);
+  EXPECT_DOUBLE_EQ(evaluate(perp, {&turned, &body}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(rad, {&turned, &body}, ctx), 0.0);
+  const double slight = 20 * M_PI / 180;  // between tolerance and twice it: partly
+  const Segment leaning = torus({0.04 + k * R, 0, 1}, {std::sin(slight), 0, std::cos(slight)}, R, 0.006);
+  EXPECT_NEAR(evaluate(rad, {&leaning, &body}, ctx), 2.0 / 3.0, 1e-9);
+  const Segment about_axis = torus({0, -0.02, 1}, {0, 0, 1}, R, 0.006);
+  EXPECT_DOUBLE_EQ(evaluate(rad, {&about_axis, &body}, ctx), 0.0);
   // coaxial, above, same size, distance
   const Segment neck = cylinder({0, -0.12, 1}, up, 0.012, 0.05);
   Constraint coax{"coaxial", {"body", "neck"}, {}, {}, {}};

@@ -72,6 +72,20 @@ double perpendicular(const Segment& a, const Segment& b, const Constraint& c) {
   const double tol = param(c, "tolerance_deg", 10.0);
   return falling(90.0 - axis_angle(a, b), tol, 2 * tol);
 }
+/// a's ring (a torus's, an arc's) lies in a plane through b's axis: its normal is perpendicular
+/// to the plane that holds b's axis and a's centre. A handle stands out from its body that way; a
+/// ring turned about the radial direction is a fit to something else (a rim, a neighbour's
+/// wall). 0 when a's centre lies on b's axis (no such plane).
+double radial(const Segment& a, const Segment& b, const Constraint& c) {
+  const double tol = param(c, "tolerance_deg", 10.0);
+  const Eigen::Vector3d axis = b.direction()->normalized();
+  const Eigen::Vector3d q = a.origin() - b.origin();
+  const Eigen::Vector3d out = q - axis * axis.dot(q);
+  if (!(out.norm() > 1e-6)) return 0.0;
+  const Eigen::Vector3d plane_normal = axis.cross(out).normalized();
+  const double angle = std::acos(std::min(1.0, std::abs(a.direction()->normalized().dot(plane_normal)))) / kDeg;
+  return falling(angle, tol, 2 * tol);
+}
 double coaxial(const Segment& a, const Segment& b, const Constraint& c) {
   const double dist = param(c, "distance", 0.01);
   return std::min(parallel(a, b, c), falling(distance_to_line(b.origin(), a.origin(), *a.direction()), dist, 2 * dist));
@@ -186,6 +200,7 @@ const std::map<std::string, std::vector<std::string>>& predicate_table() {
       {"parallel", {"tolerance_deg"}},
       {"perpendicular", {"tolerance_deg"}},
       {"coaxial", {"tolerance_deg", "distance"}},
+      {"radial", {"tolerance_deg"}},
       {"above", {"margin"}},
       {"on", {"tolerance"}},
       {"same_size", {"ratio"}},
@@ -302,6 +317,10 @@ CompiledConstraint compile(const Constraint& c) {
   else if (p == "perpendicular")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
       return has_axis(a) && has_axis(b) ? perpendicular(a, b, k) : 0.0;
+    };
+  else if (p == "radial")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
+      return has_axis(a) && has_axis(b) ? radial(a, b, k) : 0.0;
     };
   else if (p == "coaxial")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {

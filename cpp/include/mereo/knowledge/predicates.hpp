@@ -13,6 +13,9 @@
 //  - parallel / perpendicular(a, b; tolerance_deg = 10): angle between their axes (cylinder and
 //    line axis, plane normal, torus/arc ring normal), 1 within tolerance, 0 beyond 2*tolerance;
 //  - coaxial(a, b; tolerance_deg = 10, distance = 0.01 m): parallel and b's centre on a's axis;
+//  - radial(a, b; tolerance_deg = 10): a's ring (torus, arc) lies in a plane through b's axis (its
+//    normal is perpendicular to the plane of b's axis and a's centre), as a handle stands out
+//    from its body; 0 when a's centre is on b's axis;
 //  - above(a, b; margin = 0.01 m): a's centre higher than b's along `up`, ramp over `margin`;
 //  - on(a, b; tolerance = 0.01 m): a's lowest point at b's top (along `up`), and a's centre over
 //    b (horizontal distance within b's extent);

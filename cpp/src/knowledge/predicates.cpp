@@ -74,8 +74,9 @@ double perpendicular(const Segment& a, const Segment& b, const Constraint& c) {
 }
 /// a's ring (a torus's, an arc's) lies in a plane through b's axis: its normal is perpendicular
 /// to the plane that holds b's axis and a's centre. A handle stands out from its body that way; a
-/// ring turned about the radial direction is a fit to something else (a rim, a neighbour's
-/// wall). 0 when a's centre lies on b's axis (no such plane).
+/// ring that faces partly outwards (turned about a line along the axis) is a fit to something
+/// else (a tapered cup's rim, a neighbour's wall). 0 when a's centre lies on b's axis (no such
+/// plane). It holds perpendicular's condition too: the angle is that of both turns.
 double radial(const Segment& a, const Segment& b, const Constraint& c) {
   const double tol = param(c, "tolerance_deg", 10.0);
   const Eigen::Vector3d axis = b.direction()->normalized();

@@ -105,13 +105,17 @@ Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& poin
     std::vector<Eigen::Vector3d> buffer;
     const auto& pts = subsample_into(points, buffer, kFitPoints);
     const int N = int(pts.size());
+    const auto f = [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
+      S t = start;
+      t.unpack(v);
+      if (residual == Residual::AlongRay)
+        for (int i = 0; i < N; ++i) r(i) = t.range_residual(pts[i]);
+      else
+        for (int i = 0; i < N; ++i) r(i) = t.signed_distance(pts[i]);
+    };
+    bool closed_form = false;
     if constexpr (has_range_gradient<S>::value) {
       if (residual == Residual::AlongRay) {  // the gradient in closed form: one pass per Jacobian
-        const auto f = [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
-          S t = start;
-          t.unpack(v);
-          for (int i = 0; i < N; ++i) r(i) = t.range_residual(pts[i], v, nullptr);
-        };
         lm(x, N, f, [&](const Eigen::VectorXd& v, const Eigen::VectorXd&, Eigen::MatrixXd& J) {
           S t = start;
           t.unpack(v);
@@ -121,19 +125,10 @@ Segment refit_points(const Segment& s0, const std::vector<Eigen::Vector3d>& poin
             J.row(i) = row;
           }
         });
-        g0 = start;
-        g0.unpack(x);
-        return;
+        closed_form = true;
       }
     }
-    levenberg_marquardt(x, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& r) {
-      S t = start;
-      t.unpack(v);
-      if (residual == Residual::AlongRay)
-        for (int i = 0; i < N; ++i) r(i) = t.range_residual(pts[i]);
-      else
-        for (int i = 0; i < N; ++i) r(i) = t.signed_distance(pts[i]);
-    });
+    if (!closed_form) levenberg_marquardt(x, N, f);
     g0 = start;
     g0.unpack(x);
   });

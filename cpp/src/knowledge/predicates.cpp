@@ -31,10 +31,14 @@ double axis_angle(const Segment& a, const Segment& b) {
   return std::acos(std::min(1.0, c)) / kDeg;
 }
 
-double distance_to_line(const Eigen::Vector3d& p, const Eigen::Vector3d& point, const Eigen::Vector3d& axis) {
+/// p's offset from the line through `point` along `axis`, across the axis.
+Eigen::Vector3d off_axis(const Eigen::Vector3d& p, const Eigen::Vector3d& point, const Eigen::Vector3d& axis) {
   const Eigen::Vector3d a = axis.normalized();
   const Eigen::Vector3d q = p - point;
-  return (q - a * a.dot(q)).norm();
+  return q - a * a.dot(q);
+}
+double distance_to_line(const Eigen::Vector3d& p, const Eigen::Vector3d& point, const Eigen::Vector3d& axis) {
+  return off_axis(p, point, axis).norm();
 }
 
 double param(const Constraint& c, const char* name, double fallback) { return c.param(name, fallback); }
@@ -79,11 +83,9 @@ double perpendicular(const Segment& a, const Segment& b, const Constraint& c) {
 /// plane). It holds perpendicular's condition too: the angle is that of both turns.
 double radial(const Segment& a, const Segment& b, const Constraint& c) {
   const double tol = param(c, "tolerance_deg", 10.0);
-  const Eigen::Vector3d axis = b.direction()->normalized();
-  const Eigen::Vector3d q = a.origin() - b.origin();
-  const Eigen::Vector3d out = q - axis * axis.dot(q);
+  const Eigen::Vector3d out = off_axis(a.origin(), b.origin(), *b.direction());
   if (!(out.norm() > 1e-6)) return 0.0;
-  const Eigen::Vector3d plane_normal = axis.cross(out).normalized();
+  const Eigen::Vector3d plane_normal = b.direction()->normalized().cross(out).normalized();
   const double angle = std::acos(std::min(1.0, std::abs(a.direction()->normalized().dot(plane_normal)))) / kDeg;
   return falling(angle, tol, 2 * tol);
 }

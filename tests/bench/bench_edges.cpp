@@ -1,5 +1,6 @@
 // bench_edges: the edge modality's lines and arcs (features::detect_edge_primitives, on its
-// default chains, Canny's linked, and on Edge Drawing's) against OpenCV's own detectors on the same colour images, in one process:
+// default chains, Canny's linked; the same with the fixed threshold, not raised on textured
+// images; and on Edge Drawing's chains) against OpenCV's own detectors on the same colour images, in one process:
 // Canny's edge pixels, the Fast Line Detector (ximgproc), the line segment detector (LSD), and
 // Edge Drawing's own lines and ellipses (ximgproc).
 //
@@ -144,6 +145,12 @@ int main(int argc, char** argv) {
                                                             in.frame.color, &in.cloud, o);
                        return segment_pixels(in, last);
                      }});
+  methods.push_back({"mereo, fixed threshold", [&](const Input& in) {  // the threshold not raised on texture
+                       features::EdgePrimitiveOptions o;
+                       o.edges.texture_factor = 0;
+                       return segment_pixels(in, features::fit_edge_primitives(signal::detect_edges(in.frame.color, o.edges),
+                                                                                in.frame.color, &in.cloud, o));
+                     }});
   methods.push_back({"mereo on Edge Drawing's chains", [&](const Input& in) {
                        features::EdgePrimitiveOptions o;
                        o.edges.method = signal::EdgeMethod::EdgeDrawing;
@@ -217,9 +224,12 @@ int main(int argc, char** argv) {
   for (const auto& m : methods)
     std::printf("%-36s %16.2f %12.3f %16.2f %12.3f\n", m.name.c_str(), median(m.ms_synthetic), mean(m.recall_synthetic),
                 median(m.ms_real), mean(m.recall_real));
+  const Method& ed = methods.back();
   std::printf("mereo's time against Edge Drawing's own lines and ellipses: %.2fx rendered, %.2fx real\n",
-              median(methods[0].ms_synthetic) / median(methods[5].ms_synthetic),
-              median(methods[0].ms_real) / median(methods[5].ms_real));
+              median(methods[0].ms_synthetic) / median(ed.ms_synthetic), median(methods[0].ms_real) / median(ed.ms_real));
+  const double worst_ms = std::max(median(methods[0].ms_synthetic), n_real ? median(methods[0].ms_real) : 0.0);
+  std::printf("the edge stage's target, at most 10 ms per VGA frame (median per set): %s (%.2f ms at worst)\n",
+              worst_ms <= 10 ? "met" : "missed", worst_ms);
   std::printf("arcs on rendered mug handles showing >= 150 pixels: %d of %d\n", handles_with_arc, handles_seen);
 
   // Depth from a second camera registered to the colour camera before colour meets depth
@@ -255,6 +265,7 @@ int main(int argc, char** argv) {
     std::printf(",\"%s\":{\"ms\":%s,\"recall\":%s,\"ms_real\":%s,\"recall_real\":%s}", m.name.c_str(),
                 bench::json_number(median(m.ms_synthetic), 2).c_str(), bench::json_number(mean(m.recall_synthetic)).c_str(),
                 bench::json_number(median(m.ms_real), 2).c_str(), bench::json_number(mean(m.recall_real)).c_str());
-  std::printf(",\"handle_arcs\":%d,\"handles\":%d}\n", handles_with_arc, handles_seen);
+  std::printf(",\"handle_arcs\":%d,\"handles\":%d,\"target_10ms_met\":%s}\n", handles_with_arc, handles_seen,
+              worst_ms <= 10 ? "true" : "false");
   return 0;
 }

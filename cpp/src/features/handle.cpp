@@ -610,6 +610,7 @@ std::optional<Segment> edge_handle(const Pixels& f, const Segment& body, const C
   for (int y = bv0; y <= bv1; ++y) std::copy_n(color->ptr(y, bu0), 3 * crop.cols(), crop.ptr(y - bv0, 0));
   signal::EdgeOptions eo;
   eo.min_chain_px = kMinRunPoints;
+  eo.texture_factor = 0;  // the box is mostly the object: its median gradient is no texture's
   const auto chains = signal::detect_edges(crop, eo);
 
   // a point of the image in the limbs' plane (through the axis, facing the camera): height along

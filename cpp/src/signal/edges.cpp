@@ -107,6 +107,20 @@ std::vector<std::vector<cv::Point>> link_edges(const cv::Mat& edges, int min_len
   return kept;
 }
 
+/// The median of |gx| + |gy| over every second pixel of every second row (a histogram: the
+/// magnitudes are integers).
+int median_gradient(const cv::Mat& gx, const cv::Mat& gy) {
+  std::vector<int> histogram(2 * 1024 + 1, 0);
+  int n = 0;
+  for (int y = 0; y < gx.rows; y += 2) {
+    const short *a = gx.ptr<short>(y), *b = gy.ptr<short>(y);
+    for (int x = 0; x < gx.cols; x += 2, ++n)
+      ++histogram[std::min<int>(2048, std::abs(a[x]) + std::abs(b[x]))];
+  }
+  for (int v = 0, below = 0;; ++v)
+    if ((below += histogram[std::size_t(v)]) * 2 >= n) return v;
+}
+
 }  // namespace
 
 std::vector<EdgeChain> detect_edges(const ColorImage& color, const EdgeOptions& o) {
@@ -118,19 +132,21 @@ std::vector<EdgeChain> detect_edges(const ColorImage& color, const EdgeOptions& 
 
   // the gradient (the sub-pixel peak across the edge is found on it; Canny suppresses and links on it)
   cv::Mat smooth, gx, gy;
-  if (o.subpixel || o.method == EdgeMethod::Canny) {
+  if (o.subpixel || o.method == EdgeMethod::Canny || o.texture_factor > 0) {
     cv::GaussianBlur(grey, smooth, cv::Size(), o.sigma);
     cv::Sobel(smooth, gx, CV_16S, 1, 0);
     cv::Sobel(smooth, gy, CV_16S, 0, 1);
   }
+  const double threshold =
+      std::max(double(o.gradient_threshold), o.texture_factor > 0 ? o.texture_factor * median_gradient(gx, gy) : 0.0);
   std::vector<std::vector<cv::Point>> segments;
   if (o.method == EdgeMethod::Canny) {
     cv::Mat edges;
-    cv::Canny(gx, gy, edges, o.gradient_threshold, 2.0 * o.gradient_threshold, false);
+    cv::Canny(gx, gy, edges, threshold, 2.0 * threshold, false);
     segments = link_edges(edges, o.min_chain_px);
   } else {
     auto ed = cv::ximgproc::createEdgeDrawing();
-    ed->params.GradientThresholdValue = o.gradient_threshold;
+    ed->params.GradientThresholdValue = int(std::lround(threshold));
     ed->params.AnchorThresholdValue = o.anchor_threshold;
     ed->params.Sigma = float(o.sigma);
     ed->params.MinPathLength = o.min_chain_px;

@@ -29,6 +29,10 @@ struct EdgeOptions {
   /// Gradient magnitude (|gx| + |gy| of Sobel on 8-bit grey levels) below which no pixel is an
   /// edge (Canny: the low threshold; a chain holds a pixel of twice this).
   int gradient_threshold = 24;
+  /// The threshold rises to this many times the image's median gradient magnitude where that is
+  /// higher: on a textured or noisy image (wood grain, a real sensor's colour noise) the weak
+  /// edges of the texture are not outlines. 0: the fixed threshold alone.
+  double texture_factor = 2.5;
   /// Edge Drawing: an anchor (where a chain starts) exceeds its two neighbours across the edge by this much.
   int anchor_threshold = 8;
   /// Gaussian smoothing before the gradient, pixels.
@@ -47,6 +51,7 @@ inline const Fields<EdgeOptions>& EdgeOptions::fields() {
       choice("method", &O::method, {{"canny", EdgeMethod::Canny}, {"edge_drawing", EdgeMethod::EdgeDrawing}},
              "where the edge chains come from: Canny's edges linked here, or Edge Drawing's"),
       field("gradient_threshold", &O::gradient_threshold, 1, 1020, "least gradient magnitude of an edge pixel"),
+      field("texture_factor", &O::texture_factor, 0, 100, "the threshold rises to this times the median gradient"),
       field("anchor_threshold", &O::anchor_threshold, 0, 255, "Edge Drawing: how much an anchor exceeds its neighbours"),
       field("sigma", &O::sigma, 0.3, 10, "Gaussian smoothing before the gradient, pixels"),
       field("min_chain_px", &O::min_chain_px, 2, 100000, "shortest edge chain kept, pixels"),

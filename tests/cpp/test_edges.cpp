@@ -148,10 +148,12 @@ TEST(Edges, ADrawnCylinderIsAnEdgeCylinderAndAnUnrelatedCircleBesideTwoLinesIsNo
     cv::ellipse(img, cv::Point(520, 100), cv::Size(50, 16), 0, 0, 360, cv::Scalar(120, 120, 230), cv::FILLED, cv::LINE_AA);
   });
   const auto& kb = mereo::knowledge::builtin_models();
-  auto best = [&](const ColorImage& c, std::vector<Segment>& s) {
+  // the best hypothesis of a modality: the sides (rim, left, right) or the base (rim, base)
+  auto best = [&](const ColorImage& c, std::vector<Segment>& s, const std::string& modality = "sides") {
     s = primitives(c);
-    const auto l = mereo::matching::recognize(kb, {"edge_cylinder"}, s);
-    return l.hypotheses.empty() ? mereo::matching::Hypothesis{} : l.hypotheses.front();
+    for (const auto& h : mereo::matching::recognize(kb, {"edge_cylinder"}, s).hypotheses)
+      if (h.modality == modality) return h;
+    return mereo::matching::Hypothesis{};
   };
   std::vector<Segment> s;
   const auto h = best(cylinder, s);
@@ -164,6 +166,19 @@ TEST(Edges, ADrawnCylinderIsAnEdgeCylinderAndAnUnrelatedCircleBesideTwoLinesIsNo
   EXPECT_NEAR(std::abs(a.start_px.x() - b.start_px.x()), 100, 3);  // the two sides, not one twice
   EXPECT_NEAR(std::min(a.start_px.x(), b.start_px.x()), 250, 2);
   EXPECT_LT(best(apart, s).score, 0.5);
+  EXPECT_LT(best(apart, s, "base").score, 0.5);
+
+  // the base under the rim: the same cylinder by its rim and the near half of its bottom's ellipse
+  const auto hb = best(cylinder, s, "base");
+  ASSERT_GT(hb.score, 0.5);
+  EXPECT_NEAR(s[std::size_t(hb.assignment[0])].as<sh::Arc>().center_px.y(), 200, 2);
+  EXPECT_NEAR(s[std::size_t(hb.assignment[1])].as<sh::Arc>().center_px.y(), 330, 3);
+  // a plate's rim and its well (concentric: nothing below the rim) are no cylinder
+  const ColorImage plate = drawing([](cv::Mat& img) {
+    cv::ellipse(img, cv::Point(300, 200), cv::Size(80, 30), 0, 0, 360, cv::Scalar(120, 120, 230), cv::FILLED, cv::LINE_AA);
+    cv::ellipse(img, cv::Point(300, 202), cv::Size(60, 22), 0, 0, 360, cv::Scalar(90, 90, 200), cv::FILLED, cv::LINE_AA);
+  });
+  EXPECT_LT(best(plate, s, "base").score, 0.5);
 }
 
 TEST(Edges, AShortCylindersSidesAreLinesNotPartOfItsBasesArc) {

@@ -117,6 +117,37 @@ TEST(Predicates, HandleOnBodyAndItsLookalikes) {
   EXPECT_NEAR(surface_distance(handle, handle.origin() + Eigen::Vector3d(R, 0, 0)), 0.0, 1e-12);
 }
 
+// stacked_px: a cylinder's base arc under its rim in the image (y down), and what is not one
+TEST(Predicates, ABaseArcUnderItsRim) {
+  auto arc = [](Eigen::Vector2d c, double a, double b, double angle, double from, double to) {
+    Segment s;
+    shapes::Arc e;
+    e.center_px = c, e.axes_px = {a, b}, e.angle_deg = angle, e.start_deg = from, e.end_deg = to;
+    s.shape = e;
+    return s;
+  };
+  const Context ctx;
+  const Constraint stacked{"stacked_px", {"rim", "base"}, {{"tolerance_deg", 10.0}, {"min", 8.0}, {"max", 4.0}}, {}, {}};
+  auto judge = [&](const Segment& a, const Segment& b) { return evaluate(stacked, {&a, &b}, ctx); };
+  const Segment rim = arc({300, 200}, 40, 15, 0, 0, 360);
+  // the base 60 px below, its near half hidden: seen from 0 to 180 degrees (y grows: below)
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 260}, 38, 14, 0, 0, 180)), 1.0);
+  // the same ellipse seen on the side towards the rim: no base (an arc of something in front)
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 260}, 38, 14, 0, 180, 360)), 0.0);
+  // off the rim's minor axis by 20 px (half its major semi-axis), turned by 30 degrees, half its
+  // size, too near (a rim's inner edge) or too far (a neighbour's arc 6 semi-axes away): none
+  EXPECT_DOUBLE_EQ(judge(rim, arc({320, 260}, 38, 14, 0, 0, 180)), 0.0);
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 260}, 38, 14, 30, 0, 180)), 0.0);
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 260}, 20, 8, 0, 0, 180)), 0.0);
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 203}, 37, 13, 0, 0, 180)), 0.0);
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 440}, 38, 14, 0, 0, 180)), 0.0);
+  // a rim seen from above (round) holds no direction: a base below it at any angle counts
+  const Segment round = arc({300, 200}, 40, 37, 70, 0, 360);
+  EXPECT_DOUBLE_EQ(judge(round, arc({300, 230}, 39, 33, 0, 0, 180)), 1.0);
+  // lines and 3-D shapes are no arcs
+  EXPECT_DOUBLE_EQ(judge(rim, cylinder({0, 0, 1}, {0, -1, 0}, 0.04, 0.1)), 0.0);
+}
+
 // rest_gap: an axial body's lowest point above the support, from the geometry of a finite
 // cylinder (its ends' rims) against a table 0.8 m below a camera looking along it (up = -y).
 TEST(Predicates, RestGapIsTheLowestPointAboveTheSupport) {

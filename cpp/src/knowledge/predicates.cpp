@@ -196,6 +196,33 @@ double apart_px(const Segment& a, const Segment& b, const Constraint& c) {
   return std::clamp((off - min / 2) / (min / 2), 0.0, 1.0);
 }
 
+/// b is a's ellipse carried along a's minor axis, as a cylinder's base is its rim's (a, b: arcs):
+///  - major axes parallel (within tolerance_deg, 0 at twice it) and of about one size (the
+///    smaller at least `ratio` of the larger, 0 at ratio - 0.2);
+///  - b's centre off a's minor axis by at most 15% of a's major semi-axis (0 at 30%), and along
+///    it by at least `min` pixels (0 at half of it) and at most `max` major semi-axes (0 at 1.25
+///    times it: a body a few times taller than wide);
+///  - b seen on its far side from a (the body hides the rest of its base): the direction from b's
+///    centre to the middle of its arc within 60 degrees of the direction away from a's centre.
+/// A rim seen nearly from above (axes within 15%) has no direction to hold to: there only size,
+/// offset and side count.
+double stacked_px(const Segment& a, const Segment& b, const Constraint& c) {
+  const auto *ea = a.get_if<shapes::Arc>(), *eb = b.get_if<shapes::Arc>();
+  if (!ea || !eb || !(ea->axes_px.x() > 0) || !(eb->axes_px.x() > 0)) return 0.0;
+  const double tol = param(c, "tolerance_deg", 10.0), ratio = param(c, "ratio", 0.8), min = param(c, "min", 8.0),
+               max = param(c, "max", 4.0);
+  const Eigen::Vector2d major = *image_direction(a), minor(-major.y(), major.x());
+  const bool round = ea->axes_px.x() < 1.15 * ea->axes_px.y();
+  const double q = std::min(ea->axes_px.x(), eb->axes_px.x()) / std::max(ea->axes_px.x(), eb->axes_px.x());
+  const Eigen::Vector2d d = eb->center_px - ea->center_px, seen = eb->at((eb->start_deg + eb->end_deg) / 2) - eb->center_px;
+  const double lateral = std::abs(d.dot(major)) / ea->axes_px.x(), along = round ? d.norm() : std::abs(d.dot(minor));
+  const double far = d.norm() > 0 && seen.norm() > 0 ? d.dot(seen) / (d.norm() * seen.norm()) : 0.0;
+  return std::min({round ? 1.0 : falling(image_angle(major, *image_direction(b)), tol, 2 * tol),
+                   std::clamp((q - (ratio - 0.2)) / 0.2, 0.0, 1.0), round ? 1.0 : falling(lateral, 0.15, 0.3),
+                   std::clamp((along - min / 2) / (min / 2), 0.0, 1.0),
+                   falling(along / ea->axes_px.x(), max, 1.25 * max), std::clamp(far / 0.5, 0.0, 1.0)});
+}
+
 const std::map<std::string, std::vector<std::string>>& predicate_table() {
   static const std::map<std::string, std::vector<std::string>> t = {
       {"near", {"max"}},
@@ -212,6 +239,7 @@ const std::map<std::string, std::vector<std::string>>& predicate_table() {
       {"perpendicular_px", {"tolerance_deg"}},
       {"touches_px", {"max"}},
       {"apart_px", {"min"}},
+      {"stacked_px", {"tolerance_deg", "ratio", "min", "max"}},
   };
   return t;
 }
@@ -343,6 +371,8 @@ CompiledConstraint compile(const Constraint& c) {
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return touches_px(a, b, k); };
   else if (p == "apart_px")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return apart_px(a, b, k); };
+  else if (p == "stacked_px")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return stacked_px(a, b, k); };
   else throw std::invalid_argument("unknown predicate '" + p + "'");
   return [f, con, clamp01](const std::vector<const Segment*>& parts, const Context& ctx) {
     if (parts.size() < 2) throw std::invalid_argument("predicate '" + con->predicate + "' needs two parts");

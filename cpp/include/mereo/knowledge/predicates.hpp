@@ -28,7 +28,11 @@
 //  - touches_px(a, b; max = 4 px): the nearest of either one's ends (as seen) to the other's curve
 //    (an arc's whole ellipse), 1 within max, 0 beyond 2*max (a cylinder's side ends on its rim);
 //  - apart_px(a, b; min = 8 px): b's middle lies off a's line (a: a line) by at least min, 0 at
-//    half of it (the two sides of a cylinder's outline are two lines, not one).
+//    half of it (the two sides of a cylinder's outline are two lines, not one);
+//  - stacked_px(a, b; tolerance_deg = 10, ratio = 0.8, min = 8 px, max = 4): b (an arc) is a's
+//    ellipse carried along a's minor axis by min pixels to max of a's major semi-axes, as a
+//    cylinder's base arc lies under its rim: major axes parallel and of about one size, b's
+//    centre on a's minor axis, b seen on its side away from a.
 #pragma once
 
 #include <functional>

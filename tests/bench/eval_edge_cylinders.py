@@ -2,11 +2,12 @@
 the colour image's lines and arcs alone by the `edge_cylinder` model (graphs/models/edges.yaml).
 
 Of the cylindrical bodies (mugs, cups, jars, cans, bottles, plates) showing at least 500 pixels,
-the share with an edge_cylinder hypothesis of score >= 0.5 whose three parts lie on the object
-(at least 60% of each part's pixels within 3 pixels of the object's); and the hypotheses that lie
-on no such object. No depth is used (the primitives are not lifted).
+the share with an edge_cylinder hypothesis of score >= 0.5 whose parts (rim and sides, or rim and
+base: the model's two modalities) lie on the object (at least 60% of each part's pixels within 3
+pixels of the object's), and how many each modality found; and the hypotheses that lie on no
+such object. No depth is used (the primitives are not lifted).
 
-    python tests/bench/eval_edge_cylinders.py [--first 9500] [--frames 20] [--depth-model kinect]
+    python tests/bench/eval_edge_cylinders.py [--first 9500] [--frames 20] [--min-pixels 500]
 """
 from __future__ import annotations
 
@@ -28,6 +29,7 @@ def main(argv=None) -> int:
 
     kb = mereo.knowledge.load_models()
     bodies = found = hypotheses = stray = 0
+    by_modality = {}  # modality -> bodies it found
     ms = []
     for seed in range(args.first, args.first + args.frames):
         o = mereo.synthetic.SceneOptions()
@@ -46,6 +48,7 @@ def main(argv=None) -> int:
                 grown = _dilate(labels == ob["id"], 3)
                 near[ob["id"]] = (ob["model"], body[0]["visible_pixels"], grown.ravel())
         hit = set()
+        hit_by = {}
         for h in lattice.hypotheses:
             if h.score < 0.5:
                 continue
@@ -53,15 +56,19 @@ def main(argv=None) -> int:
             on = [k for k, (_, _, m) in near.items() if all(m[segs[i].pixels].mean() >= 0.6 for i in h.assignment if i >= 0)]
             stray += not on
             hit.update(on)
+            hit_by.setdefault(h.modality, set()).update(on)
         for k, (model, visible, _) in near.items():
             if visible >= args.min_pixels:
                 bodies += 1
                 found += k in hit
+                for m, ks in hit_by.items():
+                    by_modality[m] = by_modality.get(m, 0) + (k in ks)
                 if k not in hit:
                     print(f"  seed {seed}: {model} ({visible} px) has no edge-cylinder")
     print(f"seeds {args.first}-{args.first + args.frames - 1}: edge-cylinders on {found}/{bodies} bodies of "
           f">= {args.min_pixels} px ({found / max(1, bodies):.2f}); {hypotheses} hypotheses >= 0.5, {stray} on no "
           f"cylindrical object; edges and matching {np.median(ms):.1f} ms a frame (median)")
+    print("bodies found by each modality: " + ", ".join(f"{m} {n}" for m, n in sorted(by_modality.items())))
     return 0
 
 

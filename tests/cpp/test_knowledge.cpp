@@ -141,6 +141,9 @@ TEST(Predicates, ABaseArcUnderItsRim) {
   EXPECT_DOUBLE_EQ(judge(rim, arc({300, 260}, 20, 8, 0, 0, 180)), 0.0);
   EXPECT_DOUBLE_EQ(judge(rim, arc({300, 203}, 37, 13, 0, 0, 180)), 0.0);
   EXPECT_DOUBLE_EQ(judge(rim, arc({300, 440}, 38, 14, 0, 0, 180)), 0.0);
+  // a flat edge inside the opening, 8 px down, its seen middle within the rim's ellipse: none
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 208}, 34, 6, 0, 0, 180)), 0.0);
+  EXPECT_DOUBLE_EQ(judge(rim, arc({300, 208}, 34, 9, 0, 0, 180)), 1.0);  // 2 px below the rim: outside
   // a rim seen from above (round) holds no direction: a base below it at any angle counts
   const Segment round = arc({300, 200}, 40, 37, 70, 0, 360);
   EXPECT_DOUBLE_EQ(judge(round, arc({300, 230}, 39, 33, 0, 0, 180)), 1.0);

@@ -203,7 +203,8 @@ double apart_px(const Segment& a, const Segment& b, const Constraint& c) {
 ///    it by at least `min` pixels (0 at half of it) and at most `max` major semi-axes (0 at 1.25
 ///    times it: a body a few times taller than wide);
 ///  - b seen on its far side from a (the body hides the rest of its base): the direction from b's
-///    centre to the middle of its arc within 60 degrees of the direction away from a's centre.
+///    centre to the middle of its arc within 60 degrees of the direction away from a's centre,
+///    and that middle outside a's ellipse (an edge inside the opening is no base).
 /// A rim seen nearly from above (axes within 15%) has no direction to hold to: there only size,
 /// offset and side count.
 double stacked_px(const Segment& a, const Segment& b, const Constraint& c) {
@@ -217,10 +218,14 @@ double stacked_px(const Segment& a, const Segment& b, const Constraint& c) {
   const Eigen::Vector2d d = eb->center_px - ea->center_px, seen = eb->at((eb->start_deg + eb->end_deg) / 2) - eb->center_px;
   const double lateral = std::abs(d.dot(major)) / ea->axes_px.x(), along = round ? d.norm() : std::abs(d.dot(minor));
   const double far = d.norm() > 0 && seen.norm() > 0 ? d.dot(seen) / (d.norm() * seen.norm()) : 0.0;
+  // the middle of b's seen arc lies outside a's ellipse (not an edge inside the opening)
+  const Eigen::Vector2d m = d + seen;
+  const double outside = std::hypot(m.dot(major) / ea->axes_px.x(), m.dot(minor) / ea->axes_px.y());
   return std::min({round ? 1.0 : falling(image_angle(major, *image_direction(b)), tol, 2 * tol),
                    std::clamp((q - (ratio - 0.2)) / 0.2, 0.0, 1.0), round ? 1.0 : falling(lateral, 0.15, 0.3),
                    std::clamp((along - min / 2) / (min / 2), 0.0, 1.0),
-                   falling(along / ea->axes_px.x(), max, 1.25 * max), std::clamp(far / 0.5, 0.0, 1.0)});
+                   falling(along / ea->axes_px.x(), max, 1.25 * max), std::clamp(far / 0.5, 0.0, 1.0),
+                   std::clamp((outside - 1) / 0.1, 0.0, 1.0)});
 }
 
 const std::map<std::string, std::vector<std::string>>& predicate_table() {

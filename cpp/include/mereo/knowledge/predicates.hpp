@@ -32,7 +32,7 @@
 //  - stacked_px(a, b; tolerance_deg = 10, ratio = 0.8, min = 8 px, max = 4): b (an arc) is a's
 //    ellipse carried along a's minor axis by min pixels to max of a's major semi-axes, as a
 //    cylinder's base arc lies under its rim: major axes parallel and of about one size, b's
-//    centre on a's minor axis, b seen on its side away from a.
+//    centre on a's minor axis, b seen on its side away from a and beyond a's ellipse.
 #pragma once
 
 #include <functional>

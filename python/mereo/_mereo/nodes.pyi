@@ -25,6 +25,7 @@ def detect_edges(**kwargs) -> mereo._mereo.NodeTemplate:
     Options:
         method (str, default canny, one of canny edge_drawing): where the edge chains come from: Canny's edges linked here, or Edge Drawing's
         gradient_threshold (int, default 24, 1..1020): least gradient magnitude of an edge pixel
+        texture_factor (float, default 2.5, 0..100): the threshold rises to this times the median gradient
         anchor_threshold (int, default 8, 0..255): Edge Drawing: how much an anchor exceeds its neighbours
         sigma (float, default 1, 0.3..10): Gaussian smoothing before the gradient, pixels
         min_chain_px (int, default 12, 2..100000): shortest edge chain kept, pixels

@@ -139,24 +139,22 @@ int main(int argc, char** argv) {
 
   std::vector<Method> methods;
   std::vector<Segment> last;  // mereo's segments of the frame just run, for the handle figure
-  methods.push_back({"mereo lines+arcs", [&](const Input& in) {
-                       const features::EdgePrimitiveOptions o;
-                       last = features::fit_edge_primitives(signal::detect_edges(in.frame.color, o.edges),
-                                                            in.frame.color, &in.cloud, o);
-                       return segment_pixels(in, last);
-                     }});
-  methods.push_back({"mereo, fixed threshold", [&](const Input& in) {  // the threshold not raised on texture
-                       features::EdgePrimitiveOptions o;
-                       o.edges.texture_factor = 0;
-                       return segment_pixels(in, features::fit_edge_primitives(signal::detect_edges(in.frame.color, o.edges),
-                                                                                in.frame.color, &in.cloud, o));
-                     }});
-  methods.push_back({"mereo on Edge Drawing's chains", [&](const Input& in) {
-                       features::EdgePrimitiveOptions o;
-                       o.edges.method = signal::EdgeMethod::EdgeDrawing;
-                       return segment_pixels(in, features::fit_edge_primitives(signal::detect_edges(in.frame.color, o.edges),
-                                                                                in.frame.color, &in.cloud, o));
-                     }});
+  // mereo's lines and arcs with options `o` (keep: where the segments of the frame just run go)
+  auto mereo_method = [](const char* name, const features::EdgePrimitiveOptions& o, std::vector<Segment>* keep) {
+    return Method{name, [o, keep](const Input& in) {
+                    auto s = features::fit_edge_primitives(signal::detect_edges(in.frame.color, o.edges), in.frame.color,
+                                                           &in.cloud, o);
+                    cv::Mat m = segment_pixels(in, s);
+                    if (keep) *keep = std::move(s);
+                    return m;
+                  }};
+  };
+  features::EdgePrimitiveOptions fixed, ed_chains;
+  fixed.edges.texture_factor = 0;  // the threshold not raised on texture
+  ed_chains.edges.method = signal::EdgeMethod::EdgeDrawing;
+  methods.push_back(mereo_method("mereo lines+arcs", {}, &last));
+  methods.push_back(mereo_method("mereo, fixed threshold", fixed, nullptr));
+  methods.push_back(mereo_method("mereo on Edge Drawing's chains", ed_chains, nullptr));
   methods.push_back({"OpenCV Canny 50/150", [](const Input& in) {
                        cv::Mat b, e;
                        cv::GaussianBlur(in.grey, b, cv::Size(), 1.0);

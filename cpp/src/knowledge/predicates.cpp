@@ -20,8 +20,10 @@ double falling(double x, double full, double zero) {
   if (x >= zero) return 0.0;
   return (zero - x) / (zero - full);
 }
+/// 0 for x <= zero, rising linearly to 1 at x >= zero + width.
+double rising(double x, double zero, double width) { return std::clamp((x - zero) / width, 0.0, 1.0); }
 /// The condition x >= 0 as a ramp of width 2 * tol centred on 0.
-double ramp(double x, double tol) { return std::clamp((x + tol) / (2 * tol), 0.0, 1.0); }
+double ramp(double x, double tol) { return rising(x, -tol, 2 * tol); }
 
 bool has_axis(const Segment& s) { return s.direction().has_value(); }
 
@@ -96,7 +98,7 @@ double coaxial(const Segment& a, const Segment& b, const Constraint& c) {
 double above(const Segment& a, const Segment& b, const Constraint& c, const Context& ctx) {
   const double margin = param(c, "margin", 0.01);
   const double h = ctx.up.normalized().dot(a.origin() - b.origin());
-  return std::clamp(h / margin, 0.0, 1.0);
+  return rising(h, 0.0, margin);
 }
 double on(const Segment& a, const Segment& b, const Constraint& c, const Context& ctx) {
   const double tol = param(c, "tolerance", 0.01);
@@ -117,7 +119,7 @@ double same_size(const Segment& a, const Segment& b, const Constraint& c) {
   const double sa = a.size(), sb = b.size();
   if (!(sa > 0) || !(sb > 0)) return 0.0;
   const double q = std::min(sa, sb) / std::max(sa, sb);
-  return std::clamp((q - (ratio - 0.2)) / 0.2, 0.0, 1.0);
+  return rising(q, ratio - 0.2, 0.2);
 }
 double distance(const Segment& a, const Segment& b, const Constraint& c) {
   const double margin = param(c, "margin", 0.01);
@@ -193,7 +195,7 @@ double apart_px(const Segment& a, const Segment& b, const Constraint& c) {
   const Eigen::Vector2d mid = (cb.front().front() + cb.front().back()) / 2;
   const double off = std::abs(d.x() * (mid - la->start_px).y() - d.y() * (mid - la->start_px).x());
   const double min = param(c, "min", 8.0);
-  return std::clamp((off - min / 2) / (min / 2), 0.0, 1.0);
+  return rising(off, min / 2, min / 2);
 }
 
 /// b is a's ellipse carried along a's minor axis, as a cylinder's base is its rim's (a, b: arcs):
@@ -222,10 +224,10 @@ double stacked_px(const Segment& a, const Segment& b, const Constraint& c) {
   const Eigen::Vector2d m = d + seen;
   const double outside = std::hypot(m.dot(major) / ea->axes_px.x(), m.dot(minor) / ea->axes_px.y());
   return std::min({round ? 1.0 : falling(image_angle(major, *image_direction(b)), tol, 2 * tol),
-                   std::clamp((q - (ratio - 0.2)) / 0.2, 0.0, 1.0), round ? 1.0 : falling(lateral, 0.15, 0.3),
-                   std::clamp((along - min / 2) / (min / 2), 0.0, 1.0),
-                   falling(along / ea->axes_px.x(), max, 1.25 * max), std::clamp(far / 0.5, 0.0, 1.0),
-                   std::clamp((outside - 1) / 0.1, 0.0, 1.0)});
+                   rising(q, ratio - 0.2, 0.2), round ? 1.0 : falling(lateral, 0.15, 0.3),
+                   rising(along, min / 2, min / 2),
+                   falling(along / ea->axes_px.x(), max, 1.25 * max), rising(far, 0.0, 0.5),
+                   rising(outside, 1.0, 0.1)});
 }
 
 const std::map<std::string, std::vector<std::string>>& predicate_table() {

@@ -17,7 +17,8 @@
 //  - pcl/table_scene_mug_stereo_textured.pcd: the mug body's radius against a circle fitted to
 //    the wall points above the table.
 // Times are per frame (median), mereo's over its whole detection (planes, cylinders, spheres,
-// tori and the handle search). The last line is one JSON object.
+// tori and the handle search), given the camera's focal length as the pipeline's node gives it.
+// The last line is one JSON object.
 //
 //   bench_primitives            20 synthetic frames, 24 mOSD frames, the real mug (~10 min)
 //   bench_primitives --quick    1 synthetic frame, 1 mOSD frame, the mug (ctest)
@@ -61,11 +62,13 @@ struct Input {
   std::optional<synthetic::GroundTruth> truth;
   LabelImage labels;                        // mOSD
   Eigen::Vector3d up = Eigen::Vector3d::Zero();  // the table's normal (real frames)
+  double focal = 0;  // the camera's, as the pipeline's node gives it (DetectOptions::focal_px)
 };
 
-Input prepare(std::string name, Cloud cloud, ColorImage color) {
+Input prepare(std::string name, Cloud cloud, ColorImage color, double focal) {
   Input in;
   in.name = std::move(name);
+  in.focal = focal;
   in.cloud = std::move(cloud);
   in.color = std::move(color);
   in.normals = extension::estimate_normals(in.cloud);
@@ -128,7 +131,8 @@ int main(int argc, char** argv) {
   std::vector<Input> inputs;
   for (int s = 0; s < n_syn; ++s) {
     auto sf = synthetic::render(std::uint64_t(900 + s));
-    Input in = prepare("synthetic:" + std::to_string(900 + s), extension::back_project(sf.frame), sf.frame.color);
+    Input in = prepare("synthetic:" + std::to_string(900 + s), extension::back_project(sf.frame), sf.frame.color,
+                       sf.frame.intrinsics.fx);
     in.truth = std::move(sf.truth);
     inputs.push_back(std::move(in));
   }
@@ -141,7 +145,7 @@ int main(int argc, char** argv) {
   if (int(files.size()) > n_real) files.resize(n_real);
   for (const auto& path : files) {
     const Frame f = io::read(path.string());
-    Input in = prepare(path.filename().string(), extension::back_project(f), f.color);
+    Input in = prepare(path.filename().string(), extension::back_project(f), f.color, f.intrinsics.fx);
     in.labels = f.labels;
     inputs.push_back(std::move(in));
   }
@@ -151,7 +155,7 @@ int main(int argc, char** argv) {
   const fs::path mug_file = real / "pcl" / "table_scene_mug_stereo_textured.pcd";
   if (fs::exists(mug_file)) {
     const Frame f = io::read(mug_file.string());
-    Input in = prepare("table_scene_mug", extension::back_project(f), f.color);
+    Input in = prepare("table_scene_mug", extension::back_project(f), f.color, f.intrinsics.fx);
     const auto wall = bench::wall_points(in.cloud, in.normals, in.up, [&](std::size_t i) { return in.roi.data()[i] != 0; });
     const bench::Circle c = bench::fit_circle(wall, 0.01);
     mug_reference = c.radius;
@@ -163,7 +167,9 @@ int main(int argc, char** argv) {
   bench::AnchorOptions ao;  // same tolerances as mereo's defaults at 1 m
   std::vector<Method> methods;
   methods.push_back({"mereo, whole frame", "mereo", [](const Input& in) {
-                       return features::detect_primitives(in.cloud, in.normals, {}, &in.color);
+                       features::DetectOptions o;
+                       o.focal_px = in.focal;
+                       return features::detect_primitives(in.cloud, in.normals, o, &in.color);
                      }});
   methods.push_back({"cgal Efficient_RANSAC, whole frame", "cgal", [&](const Input& in) {
                        return to_segments(bench::cgal_efficient_ransac(in.points, in.point_normals, ao), in.index);
@@ -171,6 +177,7 @@ int main(int argc, char** argv) {
   methods.push_back({"mereo, above the table", "mereo/roi", [](const Input& in) {
                        features::DetectOptions o;
                        o.roi = in.roi;
+                       o.focal_px = in.focal;
                        return features::detect_primitives(in.cloud, in.normals, o, &in.color);
                      }});
   methods.push_back({"pcl SACSegmentationFromNormals, above", "pcl/roi", [&](const Input& in) {
@@ -181,6 +188,7 @@ int main(int argc, char** argv) {
   methods.push_back({"mereo, above, geometric fit", "mereo/geo", [](const Input& in) {
                        features::DetectOptions o;
                        o.roi = in.roi;
+                       o.focal_px = in.focal;
                        o.fit_along_rays = false;
                        return features::detect_primitives(in.cloud, in.normals, o, &in.color);
                      }});

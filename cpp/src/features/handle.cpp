@@ -454,49 +454,52 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
   if (v.dot(c) > 0) v = -v;
   std::optional<Segment> best;
   std::size_t best_count = 0;
-  std::vector<int> slot;  // the zone's grid (reused across the planes)
+  // each pixel of a plane's zone and background once, found through frame-sized stamps (one
+  // generation per plane) rather than by sorting the samples: a body's planes sample some 10^5
+  // points, four to a pixel
+  thread_local std::vector<std::uint32_t> zone_stamp, background_stamp;
+  thread_local std::vector<int> zone_index;
+  thread_local std::uint32_t generation = 0;
+  const std::size_t frame_pixels = std::size_t(H) * std::size_t(W);
+  if (zone_stamp.size() < frame_pixels)
+    zone_stamp.assign(frame_pixels, 0), background_stamp.assign(frame_pixels, 0), zone_index.assign(frame_pixels, -1),
+        generation = 0;
+  std::vector<int> zone_pixels, background;
+  std::vector<Zone> zone;
   const int turns = int(std::floor(std::clamp(max_turn_deg, 0.0, 75.0) * M_PI / 180 / kTurnStep + 1e-9));
   for (int k = 0; k < 2 * (2 * turns + 1); ++k) {
-    const double side = k % 2 ? -1.0 : 1.0, turn = kTurnStep * (k / 2 - turns);
-    const Eigen::Vector3d w = side * std::cos(turn) * w0 + std::sin(turn) * v;
-    std::vector<std::pair<int, Zone>> samples;
-    std::vector<int> background;
-    for (double t = -half + 0.05 * cyl.height; t <= half - 0.03 * cyl.height; t += step)
+    const double side = k % 2 ? -1.0 : 1.0, turn = kTurnStep * (k / 2 - turns), cos_turn = std::cos(turn);
+    const Eigen::Vector3d w = side * cos_turn * w0 + std::sin(turn) * v;
+    if (++generation == 0) {
+      std::fill(zone_stamp.begin(), zone_stamp.end(), 0), std::fill(background_stamp.begin(), background_stamp.end(), 0);
+      generation = 1;
+    }
+    const std::uint32_t gen = generation;
+    // the zone: each pixel with its first sample
+    zone_pixels.clear(), zone.clear(), background.clear();
+    for (double t = -half + 0.05 * cyl.height; t <= half - 0.03 * cyl.height; t += step) {
+      const Eigen::Vector3d at = c + a * t;
       for (double rho = r + step; rho <= r + kColourReach + kBackgroundWidth; rho += step) {
-        if (rho * std::cos(turn) < r + step) continue;  // in front of the body or behind it
-        const Eigen::Vector3d x = c + a * t + w * rho;
+        if (rho * cos_turn < r + step) continue;  // in front of the body or behind it
+        const Eigen::Vector3d x = at + w * rho;
         const int i = pixel_of(x);
         if (i < 0) continue;
-        if (rho <= r + kColourReach) samples.push_back({i, Zone{t, rho, x}});
-        else background.push_back(i);
+        if (rho <= r + kColourReach) {
+          if (zone_stamp[std::size_t(i)] != gen)
+            zone_stamp[std::size_t(i)] = gen, zone_index[std::size_t(i)] = int(zone.size()), zone_pixels.push_back(i),
+            zone.push_back(Zone{t, rho, x});
+        } else if (background_stamp[std::size_t(i)] != gen) {
+          background_stamp[std::size_t(i)] = gen, background.push_back(i);
+        }
       }
-    if (samples.empty() || background.empty()) continue;
-    // the zone: each pixel once, with its first sample; found through a grid over its box
-    int u0 = W, v0 = H, u1 = -1, v1 = -1;
-    for (const auto& sample : samples) {
-      const int u = sample.first % W, v = sample.first / W;
-      u0 = std::min(u0, u), v0 = std::min(v0, v), u1 = std::max(u1, u), v1 = std::max(v1, v);
     }
-    const int gw = u1 - u0 + 1;
-    slot.assign(std::size_t(gw) * std::size_t(v1 - v0 + 1), -1);
-    const auto cell = [&](int i) {  // the pixel's place in the grid, or -1 outside the box
-      const int u = i % W, v = i / W;
-      return u < u0 || u > u1 || v < v0 || v > v1 ? -1 : (v - v0) * gw + (u - u0);
-    };
+    if (zone.empty() || background.empty()) continue;
     const auto zone_of = [&](int i) {  // the pixel's index in `zone`, or -1
-      const int g = cell(i);
-      return g < 0 ? -1 : slot[std::size_t(g)];
+      return zone_stamp[std::size_t(i)] == gen ? zone_index[std::size_t(i)] : -1;
     };
-    std::vector<int> zone_pixels;
-    std::vector<Zone> zone;
-    for (const auto& [i, z] : samples) {
-      int& k = slot[std::size_t(cell(i))];
-      if (k < 0) k = int(zone.size()), zone_pixels.push_back(i), zone.push_back(z);
-    }
-    std::sort(background.begin(), background.end());
-    background.erase(std::unique(background.begin(), background.end()), background.end());
     background.erase(std::remove_if(background.begin(), background.end(), [&](int i) { return zone_of(i) >= 0; }),
                      background.end());
+    std::sort(background.begin(), background.end());
     if (background.size() < 10) continue;
     Eigen::Vector3d bg = Eigen::Vector3d::Zero();
     for (int i : background) bg += colour_at(i);

@@ -114,6 +114,8 @@ struct Candidate {
   double score = 0;
 };
 
+/// Sorts pixel indices below n (a frame's pixel count) ascending, as std::sort does.
+void sort_pixels(std::vector<int>& pix, int n);
 /// Sets a segment's pixels, inlier count, visible extent, canonical sign, inward flag and mean
 /// colour and hue (when `color` is given).
 void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color);

@@ -79,6 +79,21 @@ std::vector<int> Pixels::component(const Segment& s, int seed, int step, const s
   return out;
 }
 
+void sort_pixels(std::vector<int>& pix, int n) {
+  // a large segment (a table: 100,000 pixels) through one pass over per-pixel counts instead of
+  // a comparison sort; counts, not flags, so that a repeated pixel stays repeated as sort keeps it
+  if (pix.size() < std::size_t(n) / 32) {
+    std::sort(pix.begin(), pix.end());
+    return;
+  }
+  thread_local std::vector<std::uint16_t> count;
+  count.assign(std::size_t(n), 0);
+  for (int i : pix) ++count[std::size_t(i)];
+  pix.clear();
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < count[std::size_t(i)]; ++k) pix.push_back(i);
+}
+
 void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImage* color) {
   std::vector<Eigen::Vector3d> pts;
   pts.reserve(pix.size());
@@ -90,7 +105,7 @@ void describe(const Pixels& f, Segment& s, std::vector<int> pix, const ColorImag
     s.inward = 2 * in > int(pix.size());
   }
   s.visit([](auto& g) { g.canonical(); });  // e.g. a plane's normal towards the camera
-  std::sort(pix.begin(), pix.end());  // (kept sorted: overlaps are binary searches)
+  sort_pixels(pix, f.H * f.W);  // (kept sorted: overlaps are binary searches)
   s.inliers = pix.size();
   s.pixels = std::move(pix);
   set_color(s, color);

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <string>
 #include <unordered_map>
 
@@ -11,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/random.hpp"
 #include "features/fit.hpp"
 #include "features/pixels.hpp"
 #include "mereo/core/error.hpp"
@@ -167,14 +167,14 @@ std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int r
   bool all_thin = !classes.empty();
   for (PrimitiveClass c : classes) all_thin = all_thin && c.thin();
   tbb::parallel_for(0, count, [&](int t) {
-    std::mt19937_64 rng(f.o.seed * 0x9E3779B97F4A7C15ULL + std::uint64_t(round) * 1000003ULL + std::uint64_t(t));
-    const int seed = pool[rng() % pool.size()];
+    ::mereo::detail::TaskRandom rng(std::uint64_t(f.o.seed), std::uint64_t(round), std::uint64_t(t));
+    const int seed = pool[std::size_t(rng.below(pool.size()))];
     if (!f.free[seed]) return;
     const double radius = all_thin ? std::min(f.o.sample_radius, 0.02) : f.o.sample_radius;
     const int rpx = std::max(3, int(radius * f.focal / f.p(seed).z()));
     auto neighbour = [&]() -> int {
       for (int tries = 0; tries < 16; ++tries) {
-        const int v = seed / f.W + int(rng() % (2 * rpx + 1)) - rpx, u = seed % f.W + int(rng() % (2 * rpx + 1)) - rpx;
+        const int v = seed / f.W + rng.below(2 * rpx + 1) - rpx, u = seed % f.W + rng.below(2 * rpx + 1) - rpx;
         if (v < 0 || v >= f.H || u < 0 || u >= f.W) continue;
         const int j = v * f.W + u;
         if (j != seed && f.free[j] && (!mask || mask[j])) return j;
@@ -195,16 +195,16 @@ std::vector<Candidate> draw(const Pixels& f, const std::vector<int>& pool, int r
       if (!ok) continue;
       const auto s = from_sample(c, P, N, limits);
       if (!s || !plausible(*s, limits)) continue;
-      // quick local score: how many of 24 random neighbours fit
+      // quick local score: how many of 24 random neighbours fit (given up once too few can)
       int hits = 0;
-      const int sign = f.orientation(*s, seed);
+      const int need = c.thin() ? 5 : 8, sign = f.orientation(*s, seed);
       s->visit([&](const auto& g) {
-        for (int m = 0; m < 24; ++m) {
+        for (int m = 0; m < 24 && hits + 24 - m >= need; ++m) {
           const int j = neighbour();
           hits += j >= 0 && f.fits_shape(g, j, sign);
         }
       });
-      if (hits < (c.thin() ? 5 : 8)) continue;
+      if (hits < need) continue;
       per[t].push_back({*s, seed, double(hits)});
     }
   });

@@ -11,12 +11,12 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <random>
 
 #include <Eigen/Dense>
 #include <tbb/parallel_for.h>
 
 #include "core/plane2.hpp"
+#include "core/random.hpp"
 #include "features/pixels.hpp"
 #include "mereo/shapes/cone.hpp"
 #include "mereo/shapes/cylinder.hpp"
@@ -446,13 +446,13 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
     const int count = std::max(1, f.o.candidates_per_iteration / 2);
     std::vector<std::vector<Candidate>> per(count);
     tbb::parallel_for(0, count, [&](int t) {
-      std::mt19937_64 rng(f.o.seed * 0x9E3779B97F4A7C15ULL + 0x5eedULL + std::uint64_t(round) * 1000003ULL + std::uint64_t(t));
-      const int seed = pool[rng() % pool.size()];
+      ::mereo::detail::TaskRandom rng(std::uint64_t(f.o.seed) + 0x5eedULL, std::uint64_t(round), std::uint64_t(t));
+      const int seed = pool[std::size_t(rng.below(pool.size()))];
       const Eigen::Vector3d p0 = g.p(seed);
       const int rpx = std::max(3, int(f.o.sample_radius * g.focal / p0.z()));
       auto neighbour = [&]() -> int {
         for (int tries = 0; tries < 16; ++tries) {
-          const int v = seed / g.W + int(rng() % (2 * rpx + 1)) - rpx, u = seed % g.W + int(rng() % (2 * rpx + 1)) - rpx;
+          const int v = seed / g.W + rng.below(2 * rpx + 1) - rpx, u = seed % g.W + rng.below(2 * rpx + 1) - rpx;
           if (v < 0 || v >= g.H || u < 0 || u >= g.W) continue;
           const int j = v * g.W + u;
           if (j != seed && g.free[j]) return j;
@@ -474,7 +474,7 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
       if ((cyl.point - p0).dot(p0) <= 0) return;
       const Segment s{Geometry(cyl)};
       int hits = 0;
-      for (int m = 0; m < kLocalTries; ++m) {
+      for (int m = 0; m < kLocalTries && hits + kLocalTries - m >= kLocalHits; ++m) {
         const int j = neighbour();
         hits += j >= 0 && g.fits(s, j, +1);
       }

@@ -757,25 +757,27 @@ StereoTabletop stereo_tabletop(std::uint64_t seed, synthetic::SceneOptions so = 
 // too far for the bottom-up search, which misses many bodies; given the support's normal, the
 // upright search finds them as circles in the support plane, with their true radii. The steps are
 // the tabletop graph's (3x3 depth filter, fast normals, support plane, the region above it, bodies
-// measured on the unfiltered points). Seeds 940-951 were used for nothing else.
+// measured on the unfiltered points). Seeds 940-951 were used for nothing else. The figures pool
+// two RANSAC seeds: one alone moves false cylinders per frame between 0.25 and 1.17 (seeds 0-7).
 TEST(Features, UprightBodiesAreFoundInWavyStereoDepthWithoutNormals) {
   bench::SyntheticScore bottom_up, upright;
   for (std::uint64_t seed = 940; seed < 952; ++seed) {
     auto t = stereo_tabletop(seed);
     t.o.classes = {PrimitiveClass::of<shapes::Plane>(), PrimitiveClass::of<shapes::Cylinder>(),
                    PrimitiveClass::of<shapes::Cone>(), PrimitiveClass::of<shapes::Sphere>()};
-    for (const bool on : {false, true}) {
-      t.o.upright_bodies = on;
-      bench::score_synthetic(t.sf.truth, features::detect_primitives(t.cloud, t.normals, t.o, &t.sf.frame.color),
-                             on ? "upright" : "bottom-up", on ? upright : bottom_up);
-    }
+    for (const int ransac_seed : {0, 1})
+      for (const bool on : {false, true}) {
+        t.o.seed = ransac_seed, t.o.upright_bodies = on;
+        bench::score_synthetic(t.sf.truth, features::detect_primitives(t.cloud, t.normals, t.o, &t.sf.frame.color),
+                               on ? "upright" : "bottom-up", on ? upright : bottom_up);
+      }
   }
   const std::string figures = "body recall: bottom-up " + std::to_string(bottom_up.body_recall()) + ", with the upright search " +
                               std::to_string(upright.body_recall()) + " of " + std::to_string(upright.bodies) +
                               "; median radius error " + std::to_string(bench::median(upright.radius_err_mm)) + " mm";
   std::printf("%s\n", figures.c_str());
   SCOPED_TRACE(figures);
-  ASSERT_GE(upright.bodies, 25);
+  ASSERT_GE(upright.bodies, 50);
   EXPECT_GE(upright.body_recall(), bottom_up.body_recall() + 0.1);
   EXPECT_LT(bench::median(upright.radius_err_mm), 3.0);
   EXPECT_LT(upright.false_cylinders_per_frame(), 1.0);
@@ -972,6 +974,8 @@ TEST(Features, ObliqueHandlesAreFoundInTheColourImageInTurnedPlanes) {
 // filter's vectorized kernel; 2 and 3 with the search), and the views whose body is found as an
 // upright cylinder of its true radius (within 1 cm, centre within 1 cm: 122 -> 125 with the
 // search, 119 either way since the new kernel, which moves these far stereo fits by chance).
+// Each view is searched with two RANSAC seeds: over seeds 0-7 one seed alone leaves 1 to 6
+// strips (mean 3), so a single seed's count says little.
 TEST(Features, NarrowStripsOfWideCirclesGiveWayToTheUprightBody) {
   synthetic::SceneOptions so;
   so.depth_model = synthetic::DepthModel::Stereo;
@@ -989,33 +993,36 @@ TEST(Features, NarrowStripsOfWideCirclesGiveWayToTheUprightBody) {
           if (o.model == "mug" && p.role == "body") body = &p;
       ASSERT_TRUE(body);
       if (body->visible_pixels < 500) continue;
-      ++views;
       const Eigen::Vector3d a = body->camera.axis.normalized();
-      bool ok = false;
-      for (const Segment& s : features::detect_primitives(t.cloud, t.normals, t.o, &t.sf.frame.color)) {
-        const auto* c = s.get_if<shapes::Cylinder>();
-        if (!c || s.inward || std::abs(c->axis.normalized().dot(a)) < 0.985) continue;
-        if (bench::majority_label(s, t.sf.truth.parts).first != body->label) continue;
-        // its pixels' width across the view, in the support plane
-        const Eigen::Vector3d across = a.cross(c->point).normalized();
-        std::vector<double> w;
-        for (int i : s.pixels) {
-          const float* q = t.o.unfiltered.ptr(i / t.o.unfiltered.cols(), i % t.o.unfiltered.cols());
-          if (std::isfinite(q[2])) w.push_back(across.dot(Eigen::Vector3d(q[0], q[1], q[2])));
+      for (const int ransac_seed : {0, 1}) {
+        ++views;
+        t.o.seed = ransac_seed;
+        bool ok = false;
+        for (const Segment& s : features::detect_primitives(t.cloud, t.normals, t.o, &t.sf.frame.color)) {
+          const auto* c = s.get_if<shapes::Cylinder>();
+          if (!c || s.inward || std::abs(c->axis.normalized().dot(a)) < 0.985) continue;
+          if (bench::majority_label(s, t.sf.truth.parts).first != body->label) continue;
+          // its pixels' width across the view, in the support plane
+          const Eigen::Vector3d across = a.cross(c->point).normalized();
+          std::vector<double> w;
+          for (int i : s.pixels) {
+            const float* q = t.o.unfiltered.ptr(i / t.o.unfiltered.cols(), i % t.o.unfiltered.cols());
+            if (std::isfinite(q[2])) w.push_back(across.dot(Eigen::Vector3d(q[0], q[1], q[2])));
+          }
+          std::sort(w.begin(), w.end());
+          if (w.size() >= 20 && w[w.size() * 98 / 100] - w[w.size() * 2 / 100] < c->radius) ++strips;
+          Eigen::Vector3d off = c->point - body->camera.point;
+          off -= a * off.dot(a);
+          ok = ok || (off.norm() < 0.01 && std::abs(c->radius - body->camera.radius) < 0.01);
         }
-        std::sort(w.begin(), w.end());
-        if (w.size() >= 20 && w[w.size() * 98 / 100] - w[w.size() * 2 / 100] < c->radius) ++strips;
-        Eigen::Vector3d off = c->point - body->camera.point;
-        off -= a * off.dot(a);
-        ok = ok || (off.norm() < 0.01 && std::abs(c->radius - body->camera.radius) < 0.01);
+        found += ok;
       }
-      found += ok;
     }
   }
   std::printf("bodies found with their radius: %d of %d views; narrow strips left on them: %d\n", found, views, strips);
-  ASSERT_GE(views, 150);
-  EXPECT_LE(strips, 3);
-  EXPECT_GE(found, 115);
+  ASSERT_GE(views, 300);
+  EXPECT_LE(strips, 8);
+  EXPECT_GE(found, 230);
 }
 
 // Outer walls about an inside (detail::outer_walls): with the renderer's active-stereo depth a far

@@ -457,24 +457,17 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
   // each pixel of a plane's zone and background once, found through frame-sized stamps (one
   // generation per plane) rather than by sorting the samples: a body's planes sample some 10^5
   // points, four to a pixel
-  thread_local std::vector<std::uint32_t> zone_stamp, background_stamp;
+  thread_local Stamps zone_set, background_set;
   thread_local std::vector<int> zone_index;
-  thread_local std::uint32_t generation = 0;
   const std::size_t frame_pixels = std::size_t(H) * std::size_t(W);
-  if (zone_stamp.size() < frame_pixels)
-    zone_stamp.assign(frame_pixels, 0), background_stamp.assign(frame_pixels, 0), zone_index.assign(frame_pixels, -1),
-        generation = 0;
+  if (zone_index.size() < frame_pixels) zone_index.assign(frame_pixels, -1);
   std::vector<int> zone_pixels, background;
   std::vector<Zone> zone;
   const int turns = int(std::floor(std::clamp(max_turn_deg, 0.0, 75.0) * M_PI / 180 / kTurnStep + 1e-9));
   for (int k = 0; k < 2 * (2 * turns + 1); ++k) {
     const double side = k % 2 ? -1.0 : 1.0, turn = kTurnStep * (k / 2 - turns), cos_turn = std::cos(turn);
     const Eigen::Vector3d w = side * cos_turn * w0 + std::sin(turn) * v;
-    if (++generation == 0) {
-      std::fill(zone_stamp.begin(), zone_stamp.end(), 0), std::fill(background_stamp.begin(), background_stamp.end(), 0);
-      generation = 1;
-    }
-    const std::uint32_t gen = generation;
+    zone_set.clear(frame_pixels), background_set.clear(frame_pixels);
     // the zone: each pixel with its first sample
     zone_pixels.clear(), zone.clear(), background.clear();
     for (double t = -half + 0.05 * cyl.height; t <= half - 0.03 * cyl.height; t += step) {
@@ -485,17 +478,16 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
         const int i = pixel_of(x);
         if (i < 0) continue;
         if (rho <= r + kColourReach) {
-          if (zone_stamp[std::size_t(i)] != gen)
-            zone_stamp[std::size_t(i)] = gen, zone_index[std::size_t(i)] = int(zone.size()), zone_pixels.push_back(i),
-            zone.push_back(Zone{t, rho, x});
-        } else if (background_stamp[std::size_t(i)] != gen) {
-          background_stamp[std::size_t(i)] = gen, background.push_back(i);
+          if (zone_set.insert(std::size_t(i)))
+            zone_index[std::size_t(i)] = int(zone.size()), zone_pixels.push_back(i), zone.push_back(Zone{t, rho, x});
+        } else if (background_set.insert(std::size_t(i))) {
+          background.push_back(i);
         }
       }
     }
     if (zone.empty() || background.empty()) continue;
     const auto zone_of = [&](int i) {  // the pixel's index in `zone`, or -1
-      return zone_stamp[std::size_t(i)] == gen ? zone_index[std::size_t(i)] : -1;
+      return zone_set.contains(std::size_t(i)) ? zone_index[std::size_t(i)] : -1;
     };
     background.erase(std::remove_if(background.begin(), background.end(), [&](int i) { return zone_of(i) >= 0; }),
                      background.end());

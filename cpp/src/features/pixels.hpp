@@ -21,6 +21,29 @@ constexpr double kDeg = M_PI / 180.0;
 
 inline bool finite3(const float* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
+/// A set of indices below n that empties in constant time: each index holds the generation that
+/// last marked it, and clear() starts a new generation (the buffer is filled only when the counter
+/// wraps). Per-thread instances let the many small searches of a frame skip frame-sized clears.
+class Stamps {
+ public:
+  /// Empties the set and makes room for indices below n.
+  void clear(std::size_t n) {
+    if (stamp_.size() < n) stamp_.assign(n, 0), generation_ = 0;
+    if (++generation_ == 0) std::fill(stamp_.begin(), stamp_.end(), 0), generation_ = 1;
+  }
+  /// Adds i; false when it was already in.
+  bool insert(std::size_t i) {
+    if (stamp_[i] == generation_) return false;
+    stamp_[i] = generation_;
+    return true;
+  }
+  bool contains(std::size_t i) const { return stamp_[i] == generation_; }
+
+ private:
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t generation_ = 0;
+};
+
 /// Everything the search reads, built once per call.
 struct Pixels {
   const Cloud& cloud;

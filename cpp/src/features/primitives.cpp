@@ -51,15 +51,13 @@ std::vector<int> Pixels::component(const Segment& s, int seed, int step, const s
   if (!free[start] || (mask && !mask[start])) return out;
   const int sign = orientation(s, start);
   if (!fits(s, start, sign)) return out;
-  // visited cells on the grid: a per-thread buffer stamped with a generation number, so that
-  // the many small components of a search do not each clear a frame-sized array
+  // visited cells on the grid, per thread: the many small components of a search do not each
+  // clear a frame-sized array
   const int gw = (W + step - 1) / step, gh = (H + step - 1) / step;
-  thread_local std::vector<std::uint32_t> seen;
-  thread_local std::uint32_t generation = 0;
-  if (seen.size() < std::size_t(gw) * gh) seen.assign(std::size_t(gw) * gh, 0), generation = 0;
-  if (++generation == 0) std::fill(seen.begin(), seen.end(), 0), generation = 1;
+  thread_local Stamps seen;
+  seen.clear(std::size_t(gw) * gh);
   std::vector<int> queue{start};
-  seen[(sv / step) * gw + su / step] = generation;
+  seen.insert(std::size_t((sv / step) * gw + su / step));
   s.visit([&](const auto& g) {  // (the class dispatched once, not per pixel)
     for (std::size_t head = 0; head < queue.size() && out.size() < cap; ++head) {
       const int i = queue[head];
@@ -68,9 +66,7 @@ std::vector<int> Pixels::component(const Segment& s, int seed, int step, const s
       const int nb[4][2] = {{v - step, u}, {v + step, u}, {v, u - step}, {v, u + step}};
       for (const auto& q : nb) {
         if (q[0] < 0 || q[0] >= H || q[1] < 0 || q[1] >= W) continue;
-        std::uint32_t& sn = seen[(q[0] / step) * gw + q[1] / step];
-        if (sn == generation) continue;
-        sn = generation;
+        if (!seen.insert(std::size_t((q[0] / step) * gw + q[1] / step))) continue;
         const int j = q[0] * W + q[1];
         if (free[j] && (!mask || mask[j]) && fits_shape(g, j, sign)) queue.push_back(j);
       }

@@ -13,14 +13,6 @@ double Cylinder::half_extent_along(const Eigen::Vector3d& dir) const {
   return c * height / 2 + sn * radius;
 }
 
-double Cylinder::signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n) const {
-  const Eigen::Vector3d q = x - point;
-  const Eigen::Vector3d radial = q - axis * axis.dot(q);
-  const double l = radial.norm();
-  if (n) *n = l > 0 ? Eigen::Vector3d(radial / l) : Eigen::Vector3d::UnitX();
-  return l - radius;
-}
-
 double Cylinder::surface_distance(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d a = axis.normalized();
   const Eigen::Vector3d q = p - point;

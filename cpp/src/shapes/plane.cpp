@@ -6,11 +6,6 @@
 
 namespace mereo::shapes {
 
-double Plane::signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n) const {
-  if (n) *n = normal;
-  return normal.dot(x) + d;
-}
-
 double Plane::surface_distance(const Eigen::Vector3d& x) const { return std::abs(normal.normalized().dot(x) + d); }
 
 std::optional<Plane> Plane::from_sample(const Eigen::Vector3d* p, const Eigen::Vector3d* n, const Limits&) {

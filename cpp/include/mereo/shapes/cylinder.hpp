@@ -26,7 +26,14 @@ struct Cylinder {
   double size() const { return radius; }
   double extent() const;
   double half_extent_along(const Eigen::Vector3d& dir) const;
-  double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n = nullptr) const;
+  // (inline: the search's loops over pixels call it millions of times per frame)
+  double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n = nullptr) const {
+    const Eigen::Vector3d q = x - point;
+    const Eigen::Vector3d radial = q - axis * axis.dot(q);
+    const double l = radial.norm();
+    if (n) *n = l > 0 ? Eigen::Vector3d(radial / l) : Eigen::Vector3d::UnitX();
+    return l - radius;
+  }
   double surface_distance(const Eigen::Vector3d& x) const;
   static std::optional<Cylinder> from_sample(const Eigen::Vector3d* p, const Eigen::Vector3d* n, const Limits&);
   bool plausible(const Limits& l) const { return radius >= l.min_radius && radius <= l.max_radius; }

@@ -21,7 +21,11 @@ struct Plane {
   double size() const { return 0.0; }
   double extent() const { return 0.0; }
   double half_extent_along(const Eigen::Vector3d&) const { return 0.0; }
-  double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n = nullptr) const;
+  // (inline: the search's loops over pixels call it millions of times per frame)
+  double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n = nullptr) const {
+    if (n) *n = normal;
+    return normal.dot(x) + d;
+  }
   double surface_distance(const Eigen::Vector3d& x) const;
   static std::optional<Plane> from_sample(const Eigen::Vector3d* p, const Eigen::Vector3d* n, const Limits&);
   bool plausible(const Limits&) const { return true; }

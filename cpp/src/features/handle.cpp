@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 #include "features/fit.hpp"
 #include "features/pixels.hpp"
@@ -452,24 +453,29 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
   // silhouette (farther from the axis sideways than the radius), not in front of it or behind it
   Eigen::Vector3d v = a.cross(w0).normalized();
   if (v.dot(c) > 0) v = -v;
-  std::optional<Segment> best;
-  std::size_t best_count = 0;
   // each pixel of a plane's zone and background once, found through frame-sized stamps (one
   // generation per plane) rather than by sorting the samples: a body's planes sample some 10^5
   // points, four to a pixel
-  thread_local Stamps zone_set, background_set;
-  thread_local std::vector<int> zone_index;
   const std::size_t frame_pixels = std::size_t(H) * std::size_t(W);
-  if (zone_index.size() < frame_pixels) zone_index.assign(frame_pixels, -1);
-  std::vector<int> zone_pixels, background;
-  std::vector<Zone> zone;
   const int turns = int(std::floor(std::clamp(max_turn_deg, 0.0, 75.0) * M_PI / 180 / kTurnStep + 1e-9));
-  for (int k = 0; k < 2 * (2 * turns + 1); ++k) {
-    const double side = k % 2 ? -1.0 : 1.0, turn = kTurnStep * (k / 2 - turns), cos_turn = std::cos(turn);
+  // the planes are independent: each is searched on its own thread, and the largest silhouette
+  // taken in the planes' order (the first of equal ones), as a loop over them would
+  struct Seen {
+    Eigen::Vector3d w;
+    double tmin = 0, tmax = 0, reach = 0;
+    std::vector<int> comp;
+  };
+  std::vector<std::optional<Seen>> seen_in(std::size_t(2 * (2 * turns + 1)));
+  tbb::parallel_for(0, int(seen_in.size()), [&](int plane) {
+    thread_local Stamps zone_set, background_set;
+    thread_local std::vector<int> zone_index;
+    if (zone_index.size() < frame_pixels) zone_index.assign(frame_pixels, -1);
+    std::vector<int> zone_pixels, background;
+    std::vector<Zone> zone;
+    const double side = plane % 2 ? -1.0 : 1.0, turn = kTurnStep * (plane / 2 - turns), cos_turn = std::cos(turn);
     const Eigen::Vector3d w = side * cos_turn * w0 + std::sin(turn) * v;
     zone_set.clear(frame_pixels), background_set.clear(frame_pixels);
     // the zone: each pixel with its first sample
-    zone_pixels.clear(), zone.clear(), background.clear();
     for (double t = -half + 0.05 * cyl.height; t <= half - 0.03 * cyl.height; t += step) {
       const Eigen::Vector3d at = c + a * t;
       for (double rho = r + step; rho <= r + kColourReach + kBackgroundWidth; rho += step) {
@@ -485,14 +491,14 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
         }
       }
     }
-    if (zone.empty() || background.empty()) continue;
+    if (zone.empty() || background.empty()) return;
     const auto zone_of = [&](int i) {  // the pixel's index in `zone`, or -1
       return zone_set.contains(std::size_t(i)) ? zone_index[std::size_t(i)] : -1;
     };
     background.erase(std::remove_if(background.begin(), background.end(), [&](int i) { return zone_of(i) >= 0; }),
                      background.end());
     std::sort(background.begin(), background.end());
-    if (background.size() < 10) continue;
+    if (background.size() < 10) return;
     Eigen::Vector3d bg = Eigen::Vector3d::Zero();
     for (int i : background) bg += colour_at(i);
     bg /= double(background.size());
@@ -503,7 +509,7 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     };
     int background_like = 0;
     for (int i : background) background_like += like_body(i);
-    if (background_like > kMaxBackgroundMatch * double(background.size())) continue;
+    if (background_like > kMaxBackgroundMatch * double(background.size())) return;
     // the handle's pixels: the body's colour, depth near the plane or none, connected to the wall
     std::vector<char> handle(zone.size()), seen(zone.size(), 0);
     for (std::size_t k = 0; k < zone.size(); ++k) {
@@ -528,17 +534,17 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
           if (k >= 0 && handle[std::size_t(k)] && !seen[std::size_t(k)]) seen[std::size_t(k)] = 1, stack.push_back(j);
         }
     }
-    if (int(comp.size()) < kMinColourPixels) continue;
+    if (int(comp.size()) < kMinColourPixels) return;
     // where its pixels have depth, they stand off the wall (not the body's own surface beyond a
     // fit that is too narrow: a cone's wide rim, a lying can); a turned plane is told by the depth
     std::vector<double> standoff;
     for (int i : comp)
       if (const Eigen::Vector3d x = f.p(i); x.z() > 0) standoff.push_back(cyl.signed_distance(x));
     const bool with_depth = double(standoff.size()) >= kTurnedDepth * double(comp.size());
-    if (!with_depth && turn != 0) continue;
+    if (!with_depth && turn != 0) return;
     if (with_depth) {
       std::nth_element(standoff.begin(), standoff.begin() + standoff.size() / 2, standoff.end());
-      if (standoff[standoff.size() / 2] < kMinStandoff) continue;
+      if (standoff[standoff.size() / 2] < kMinStandoff) return;
     }
     double tmin = INFINITY, tmax = -INFINITY, rmax = 0;
     for (int i : comp) {
@@ -550,13 +556,17 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
     for (const Zone& z : zone) boxed += z.t >= tmin && z.t <= tmax && z.rho <= rmax;
     const double fill = double(comp.size()) / double(std::max<std::size_t>(1, boxed));
     if (reach < kMinReach || reach > kMaxReach || span < kMinSpan || span > kMaxSpan * cyl.height || fill < kMinFill ||
-        fill > kMaxFill || comp.size() <= best_count)
-      continue;
-    std::sort(comp.begin(), comp.end());
-    best = seen_handle(cyl, w, tmin, tmax, reach, std::move(comp), color);
-    best_count = best->pixels.size();
-  }
-  return best;
+        fill > kMaxFill)
+      return;
+    seen_in[std::size_t(plane)] = Seen{w, tmin, tmax, reach, std::move(comp)};
+  });
+  const Seen* best = nullptr;
+  for (const auto& x : seen_in)
+    if (x && (!best || x->comp.size() > best->comp.size())) best = &*x;
+  if (!best) return std::nullopt;
+  std::vector<int> pixels = best->comp;
+  std::sort(pixels.begin(), pixels.end());
+  return seen_handle(cyl, best->w, best->tmin, best->tmax, best->reach, std::move(pixels), color);
 }
 
 namespace {

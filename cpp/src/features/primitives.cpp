@@ -784,7 +784,11 @@ std::vector<Segment> detect_primitives(const Cloud& cloud, const NormalMap& norm
       if (j >= n || !dropped[j]) kept.push_back(std::move(out[j]));
     out = std::move(kept);
   }
-  for (auto& s : out) look_at_end(f, s), detail::measure_bend(f, s, out), detail::measure_out_of_round(f, s, out);
+  // (each segment on its own thread: they write only their own ends, bend and out-of-round, and
+  // read only the tori of the others)
+  tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t k) {
+    look_at_end(f, out[k]), detail::measure_bend(f, out[k], out), detail::measure_out_of_round(f, out[k], out);
+  });
   std::stable_sort(out.begin(), out.end(), [](const Segment& a, const Segment& b) { return a.inliers > b.inliers; });
   for (std::size_t i = 0; i < out.size(); ++i) out[i].id = int(i);
   return out;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 #include "cognitive/json.hpp"
 #include "features/fit.hpp"
@@ -361,15 +362,19 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     for (auto& [role, s] : view.world[k].parts) s = s.transformed(camera_to_world);
     if (const Segment* b = body_of(observations[k])) view.distance[k] = std::max(0.3, b->origin().z());
   }
-  for (Track& t : tracks_) {
+  // a handle's surroundings, whether or not this view found its body: each track's on its own
+  // thread (it reads and keeps only that track's parts, which nothing below changes before)
+  std::vector<double> ring(tracks_.size(), 0.0);
+  if (view.has_depth())
+    tbb::parallel_for(std::size_t(0), tracks_.size(), [&](std::size_t k) {
+      ring[k] = handle_evidence(tracks_[k], *depth, intrinsics, camera_to_world, view.to_camera, o);
+    });
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    Track& t = tracks_[k];
     ++t.age;
     for (auto& p : t.parts) p.segment = -1;
     const int support = associate(t, view, o);
-    // a handle's surroundings, whether or not this view found its body
-    if (view.has_depth()) {
-      const double ring = handle_evidence(t, *depth, intrinsics, camera_to_world, view.to_camera, o);
-      if (ring != 0) add_evidence(t, ring, o);
-    }
+    if (ring[k] != 0) add_evidence(t, ring[k], o);
     if (!t.seen) {
       if (t.log_odds > 0) t.log_odds *= o.decay;
       ++t.missed;

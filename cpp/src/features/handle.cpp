@@ -108,21 +108,25 @@ HandleTurn handle_turn(const Segment& body_segment, const Segment& t_segment, co
   handle_residuals(t, pts, r);
   out.rms_held = std::sqrt(r.squaredNorm() / N);
   out.rms_turned = out.rms_held;
-  // the ring and its turn, the tube held; from no turn and from a turn either way (a local fit)
-  for (double start : {0.0, 40.0, -40.0}) {
+  // the ring and its turn, the tube held; from no turn and from a turn either way (a local fit;
+  // the three on their own threads, the best taken in this order)
+  constexpr double kStarts[3] = {0.0, 40.0, -40.0};
+  double rms[3], turn[3];
+  tbb::parallel_for(0, 3, [&](int k) {
     Eigen::VectorXd y(5);
-    y << x0.head<4>(), start * M_PI / 180.0;
+    y << x0.head<4>(), kStarts[k] * M_PI / 180.0;
     detail::levenberg_marquardt(y, N, [&](const Eigen::VectorXd& v, Eigen::VectorXd& res) {
       Eigen::VectorXd full(6);
       full << v.head<4>(), x0(4), v(4);
       handle_residuals(handle_torus(body, full), pts, res);
     });
-    Eigen::VectorXd full(6);
+    Eigen::VectorXd full(6), rk(N);
     full << y.head<4>(), x0(4), y(4);
-    handle_residuals(handle_torus(body, full), pts, r);
-    const double rms = std::sqrt(r.squaredNorm() / N);
-    if (rms < out.rms_turned) out.rms_turned = rms, out.turn_deg = std::remainder(y(4), M_PI) * 180.0 / M_PI;
-  }
+    handle_residuals(handle_torus(body, full), pts, rk);
+    rms[k] = std::sqrt(rk.squaredNorm() / N), turn[k] = y(4);
+  });
+  for (int k = 0; k < 3; ++k)
+    if (rms[k] < out.rms_turned) out.rms_turned = rms[k], out.turn_deg = std::remainder(turn[k], M_PI) * 180.0 / M_PI;
   return out;
 }
 

@@ -363,7 +363,7 @@ const std::vector<Track>& Tracker::update(const std::vector<Observation>& observ
     if (const Segment* b = body_of(observations[k])) view.distance[k] = std::max(0.3, b->origin().z());
   }
   // a handle's surroundings, whether or not this view found its body: each track's on its own
-  // thread (it reads and keeps only that track's parts, which nothing below changes before)
+  // thread (it reads and keeps only that track's parts, which the loop below changes only after)
   std::vector<double> ring(tracks_.size(), 0.0);
   if (view.has_depth())
     tbb::parallel_for(std::size_t(0), tracks_.size(), [&](std::size_t k) {

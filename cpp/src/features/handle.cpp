@@ -564,13 +564,12 @@ std::optional<Segment> colour_handle(const Pixels& f, const Segment& body, const
       return;
     seen_in[std::size_t(plane)] = Seen{w, tmin, tmax, reach, std::move(comp)};
   });
-  const Seen* best = nullptr;
-  for (const auto& x : seen_in)
+  Seen* best = nullptr;
+  for (auto& x : seen_in)
     if (x && (!best || x->comp.size() > best->comp.size())) best = &*x;
   if (!best) return std::nullopt;
-  std::vector<int> pixels = best->comp;
-  std::sort(pixels.begin(), pixels.end());
-  return seen_handle(cyl, best->w, best->tmin, best->tmax, best->reach, std::move(pixels), color);
+  std::sort(best->comp.begin(), best->comp.end());
+  return seen_handle(cyl, best->w, best->tmin, best->tmax, best->reach, std::move(best->comp), color);
 }
 
 namespace {

@@ -161,6 +161,14 @@ void set_color(Segment& s, const ColorImage* color);
 void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, int min_support, double min_r,
                     double max_r, int max_count, const ColorImage* color);
 
+/// Whether the foot of a body seen in `pix`, whose lowest points lie `foot` metres above `support`
+/// (its normal and offset), is hidden by something standing in front of it: below the body's
+/// lowest pixels in the image (the support's normal projected there; its direction needs no
+/// principal point) lie points higher than they are (features/upright.cpp). Below a wall in the
+/// image lie its lower part, the support in front of it, or what stands in front of it; a base the
+/// body stands on (a box, a drill's battery under its grip) lies no higher than its foot.
+bool foot_hidden(const Pixels& g, const Eigen::Vector4d& support, const std::vector<int>& pix, double foot);
+
 /// The bodies of `out` found bottom-up whose axis leans a little from `support`'s normal, refitted
 /// with the axis held to it (features/upright.cpp): a standing body's axis is the support's normal,
 /// and one side of a cylinder in wavy stereo depth fits a cone with a leaning axis. A held cylinder

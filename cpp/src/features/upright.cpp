@@ -81,6 +81,12 @@ constexpr double kMaxUprightRadius = 0.15;
 /// A body stands on the support: the lowest of its points (the kFootQuantile-th of their heights)
 /// is at most kMaxFoot above it, metres (a chair's column stands on its base, above the floor).
 constexpr double kMaxFoot = 0.04, kFootQuantile = 0.05;
+/// foot_hidden: of a body's lowest pixels (within kLowBand of its foot), at least kHiddenShare
+/// look down the image onto kRun points in a row higher than themselves by more than kAbove
+/// metres, which stand in front of its wall (rendered stereo seed 5020: a mug behind a cup that
+/// hides its lower half, its foot 5 cm up, was no body on the support).
+constexpr double kAbove = 0.01, kLowBand = 0.01, kHiddenShare = 0.5;
+constexpr int kRun = 3;
 /// outer_walls: a vessel's wall is kMinWall to kMaxWall thick (metres), its outer wall is looked
 /// for from kWallFloor above the support (below, the table's pixels would fill the ring about it)
 /// and kept when at least kMinOuterPixels pixels fit it, kMinAtRim of them next to the inside.
@@ -257,6 +263,40 @@ bool narrow_strip(const Pixels& f, const Plane2& pl, const Segment& s) {
 }
 
 }  // namespace
+
+bool foot_hidden(const Pixels& g, const Eigen::Vector4d& support, const std::vector<int>& pix, double foot) {
+  const double norm = support.head<3>().norm();
+  const Eigen::Vector3d up = support.head<3>() / norm;
+  const auto height = [&](const Eigen::Vector3d& x) { return (support.head<3>().dot(x) + support(3)) / norm; };
+  int low = 0, hidden = 0;
+  for (int i : pix) {
+    const Eigen::Vector3d x = g.p(i);
+    const double h = height(x);
+    if (!(h <= foot + kLowBand) || !(x.z() > 0.1)) continue;
+    ++low;
+    // the image step of a point moving down along -up from x, per metre
+    const Eigen::Vector3d d = -up;
+    const Eigen::Vector2d step(g.focal * (d.x() * x.z() - x.x() * d.z()) / (x.z() * x.z()),
+                               g.focal * (d.y() * x.z() - x.y() * d.z()) / (x.z() * x.z()));
+    const double per_m = step.norm();
+    if (!(per_m > 1e-6)) continue;
+    const Eigen::Vector2d dir = step / per_m;
+    const int reach = int(std::ceil(per_m * h)) + 2;
+    const double u0 = i % g.W, v0 = i / g.W;
+    // down to the support: kRun points in a row higher than it stand in front of the wall (below a
+    // wall in the image lie its lower part, the support in front of it, or what stands in front;
+    // a base the body stands on, as a drill's battery under its grip, lies no higher than its foot)
+    int run = 0;
+    for (int k = 1; k <= reach && run < kRun; ++k) {
+      const int u = int(std::lround(u0 + dir.x() * k)), v = int(std::lround(v0 + dir.y() * k));
+      if (u < 0 || u >= g.W || v < 0 || v >= g.H) break;
+      const Eigen::Vector3d y = g.p(v * g.W + u);
+      if (y.allFinite()) run = height(y) > h + kAbove ? run + 1 : 0;
+    }
+    hidden += run >= kRun;
+  }
+  return low > 0 && double(hidden) >= kHiddenShare * double(low);
+}
 
 void hold_upright(const Pixels& f, const Eigen::Vector4d& support, std::vector<Segment>& out, double min_r, double max_r) {
   const Eigen::Vector3d up = support.head<3>();
@@ -544,7 +584,7 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
       for (int i : pix) heights.push_back((up.dot(g.raw(i)) + support(3)) / norm);
       const auto q = heights.begin() + std::ptrdiff_t(kFootQuantile * double(heights.size()));
       std::nth_element(heights.begin(), q, heights.end());
-      floating = *q > kMaxFoot;
+      floating = *q > kMaxFoot && !foot_hidden(g, support, pix, *q);
     }
     // bodies standing on the support do not overlap (the ones it replaces aside): of two that
     // would, one holding kDisplace times the other's pixels displaces it

@@ -44,6 +44,28 @@ bool near_part(const Segment& s, const Eigen::Vector3d& x, double tol, const flo
          std::abs(n.dot(Eigen::Map<const Eigen::Vector3f>(normal).cast<double>())) >= min_cos;
 }
 
+/// Whether x lies inside the open top of an upright vessel `s` (an outer cylinder, seen from
+/// outside), seen through its opening: within its radius of the axis, below its rim by `tol` and
+/// above its foot, on a line of sight that crosses the rim's plane within the rim. A mug's inside
+/// (its far inner wall, its inner bottom) is often no part of its own (an inner wall too short or
+/// too noisy to fit), yet it is the mug's; a lid or the flat top of a box lies on the rim's
+/// plane, not below it, and the faces of a box a cylinder was fitted about are seen through its
+/// wall, not its opening.
+bool inside_opening(const Segment& s, const Eigen::Vector3d& x, const Eigen::Vector3d& up, double tol) {
+  const auto* c = s.get_if<shapes::Cylinder>();
+  if (!c || s.inward) return false;
+  Eigen::Vector3d a = c->axis.normalized();
+  if (a.dot(up) < 0) a = -a;  // towards the rim
+  const double h = c->height / 2, along = a.dot(x - c->point);
+  if (along > h - tol || along < -h) return false;
+  if ((x - c->point - a * along).norm() >= c->radius) return false;
+  // where the line of sight from the camera (the origin) crosses the rim's plane
+  const double ax = a.dot(x), t = (a.dot(c->point) + h) / ax;  // (the ray: t x)
+  if (!(ax != 0) || !(t > 0) || !(t < 1)) return false;
+  const Eigen::Vector3d q = t * x - c->point;
+  return (q - a * a.dot(q)).norm() < c->radius;
+}
+
 }  // namespace
 
 void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<Segment>& segments,
@@ -78,6 +100,7 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
   // band of a free-form object leaves the rest of it above unexplained (a ball about the object
   // would reach far over the top of a tin a tall jar stands on; what it stands on is not it)
   const Pose& T = plane.world_from_camera;
+  const Eigen::Vector3d up = T.linear().transpose() * Eigen::Vector3d::UnitZ();  // (camera frame)
   struct Footprint {
     Eigen::Vector2d c = Eigen::Vector2d::Zero();     // of its pixels
     Eigen::Vector2d body = Eigen::Vector2d::Zero();  // its first part's centre (on its axis)
@@ -143,7 +166,8 @@ void explain_regions(std::vector<RecognizedObject>& objects, const std::vector<S
         const float* normal = normals ? normals->ptr(j / W, j % W) : nullptr;
         const bool near = std::any_of(objects[a].parts.begin(), objects[a].parts.end(), [&](const auto& part) {
           const Segment& s = segments.at(std::size_t(part.second));
-          return near_part(s, x, std::max(tol, o.surface_residual_factor * s.residual), normal, min_cos);
+          const double within = std::max(tol, o.surface_residual_factor * s.residual);
+          return near_part(s, x, within, normal, min_cos) || (o.open_tops && inside_opening(s, x, up, within));
         });
         explained += near;
       }

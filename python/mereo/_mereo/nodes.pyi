@@ -151,6 +151,7 @@ def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
         surface_tolerance (float, default 0.006, 0..1): a region's pixels this near an object's part (metres at 1 m) are explained by it
         surface_residual_factor (float, default 3, 0..100): ... or this times the part's fit residual, where that is larger
         surface_normal_deg (float, default 45, 0..90): ... with normals within this of the part's (degrees)
+        open_tops (bool, default true): a region's pixels seen through the opening of an upright cylinder among the parts are explained by it
         min_unknown_pixels (int, default 800, 0..1e+07): least pixels of an unknown object (0: none)
         max_grazing_deg (float, default 75, 0..90): with normals: pixels seen more obliquely join no unknown region
     """

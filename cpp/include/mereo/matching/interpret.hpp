@@ -67,6 +67,10 @@ struct InterpretOptions {
   /// ... and, where the frame has normals, its normal within this of the part's (degrees): the
   /// flat face of a rounded box beside a cylinder fitted to its rounded edge is none.
   double surface_normal_deg = 45;
+  /// A region's pixel seen through the opening of an upright outer cylinder among the object's
+  /// parts (below its rim, within its radius; explain.cpp: inside_opening) counts as explained:
+  /// a mug's inside is its own where no inner wall was fitted to it.
+  bool open_tops = true;
   int min_unknown_pixels = 800;    ///< unexplained regions this big are unknown objects (0: none)
   /// With normals: pixels seen at more than this angle to their ray (an object's silhouette,
   /// where it meets what lies behind it without a depth jump) join no unknown region.
@@ -95,6 +99,8 @@ inline const Fields<InterpretOptions>& InterpretOptions::fields() {
             "... or this times the part's fit residual, where that is larger"),
       field("surface_normal_deg", &O::surface_normal_deg, 0, 90,
             "... with normals within this of the part's (degrees)"),
+      field("open_tops", &O::open_tops,
+            "a region's pixels seen through the opening of an upright cylinder among the parts are explained by it"),
       field("min_unknown_pixels", &O::min_unknown_pixels, 0, 1e7, "least pixels of an unknown object (0: none)"),
       field("max_grazing_deg", &O::max_grazing_deg, 0, 90, "with normals: pixels seen more obliquely join no unknown region"),
   };

@@ -44,8 +44,9 @@ bool near_part(const Segment& s, const Eigen::Vector3d& x, double tol, const flo
          std::abs(n.dot(Eigen::Map<const Eigen::Vector3f>(normal).cast<double>())) >= min_cos;
 }
 
-/// Whether x lies inside the open top of an upright vessel `s` (an outer cylinder, seen from
-/// outside), seen through its opening: within its radius of the axis, below its rim by `tol` and
+/// Whether x lies inside a vessel `s` open at its upper end (an outer cylinder, seen from
+/// outside; its rim is the end towards `up`), seen through its opening: within its radius of the
+/// axis, below its rim by `tol` and
 /// above its foot, on a line of sight that crosses the rim's plane within the rim. A mug's inside
 /// (its far inner wall, its inner bottom) is often no part of its own (an inner wall too short or
 /// too noisy to fit), yet it is the mug's; a lid or the flat top of a box lies on the rim's
@@ -60,8 +61,10 @@ bool inside_opening(const Segment& s, const Eigen::Vector3d& x, const Eigen::Vec
   if (along > h - tol || along < -h) return false;
   if ((x - c->point - a * along).norm() >= c->radius) return false;
   // where the line of sight from the camera (the origin) crosses the rim's plane
-  const double ax = a.dot(x), t = (a.dot(c->point) + h) / ax;  // (the ray: t x)
-  if (!(ax != 0) || !(t > 0) || !(t < 1)) return false;
+  const double ax = a.dot(x);
+  if (!(ax != 0)) return false;
+  const double t = (a.dot(c->point) + h) / ax;  // (the ray: t x)
+  if (!(t > 0) || !(t < 1)) return false;
   const Eigen::Vector3d q = t * x - c->point;
   return (q - a * a.dot(q)).norm() < c->radius;
 }

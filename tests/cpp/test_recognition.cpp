@@ -241,6 +241,21 @@ TEST(Explain, ABodyMustExplainItsRegionAndTheRestIsUnknown) {
   EXPECT_GE(checked, 6);
 }
 
+// A rendered frame's points, their normals and its support plane, as the tabletop graph has them
+// before matching (the explain tests' setup).
+struct Geometry3d {
+  Cloud cloud;
+  NormalMap normals;
+  extension::SupportPlane plane;
+};
+Geometry3d geometry_of(const synthetic::SyntheticFrame& sf) {
+  Geometry3d g;
+  g.cloud = extension::back_project(sf.frame);
+  g.normals = extension::estimate_normals(g.cloud);
+  g.plane = extension::find_support_plane(g.cloud, g.normals);
+  return g;
+}
+
 // The pixels a detector's fit of cylinder `s` would hold (features::DetectOptions: within
 // epsilon(z) of the wall, within its height, normal within 25 degrees), and their RMS distance as
 // its residual.
@@ -309,9 +324,7 @@ TEST(Explain, AMugsInsideSeenThroughItsOpeningIsItsOwn) {
   double gain = 0;
   for (std::uint64_t seed = 1860; seed < 1880; ++seed) {
     const auto sf = synthetic::render(seed, so);
-    const Cloud cloud = extension::back_project(sf.frame);
-    const NormalMap normals = extension::estimate_normals(cloud);
-    const auto plane = extension::find_support_plane(cloud, normals);
+    const auto [cloud, normals, plane] = geometry_of(sf);
     for (const auto& obj : sf.truth.objects_truth) {
       const auto* body = obj.part("body");
       const bool mug = obj.model == "mug", jar = obj.model == "jar" && obj.pose == "upright";
@@ -369,9 +382,7 @@ TEST(Explain, NoisyWallsNearTheirTrueSurfaceCountAndAMisplacedCylinderExplainsLi
   int bodies = 0, own_below_half = 0, accepted = 0, own_accepted = 0, moved_accepted = 0;
   for (std::uint64_t seed = 1500; seed < 1520; ++seed) {
     const auto sf = synthetic::render(seed, so);
-    const Cloud cloud = extension::back_project(sf.frame);
-    const NormalMap normals = extension::estimate_normals(cloud);
-    const auto plane = extension::find_support_plane(cloud, normals);
+    const auto [cloud, normals, plane] = geometry_of(sf);
     const int W = cloud.cols();
     for (const auto& obj : sf.truth.objects_truth) {
       const auto* body = obj.part("body");
@@ -424,9 +435,7 @@ TEST(Explain, FarNoisyWallsCountWithinTheirFitsOwnResidual) {
   int bodies = 0, accepted = 0, fixed_accepted = 0, moved_accepted = 0;
   for (std::uint64_t seed = 1520; seed < 1560; ++seed) {
     const auto sf = synthetic::render(seed, so);
-    const Cloud cloud = extension::back_project(sf.frame);
-    const NormalMap normals = extension::estimate_normals(cloud);
-    const auto plane = extension::find_support_plane(cloud, normals);
+    const auto [cloud, normals, plane] = geometry_of(sf);
     for (const auto& obj : sf.truth.objects_truth) {
       const auto* body = obj.part("body");
       if (!body || (obj.model != "jar" && obj.model != "can") || obj.pose == "lying" || body->visible_pixels < 600) continue;

@@ -72,6 +72,7 @@ void bind_extension(py::module_& m) {
       .def_readonly("d", &ext::SupportPlane::d)
       .def_readonly("inlier_count", &ext::SupportPlane::inlier_count)
       .def_readonly("rms", &ext::SupportPlane::rms)
+      .def_readonly("noise", &ext::SupportPlane::noise)
       .def_property_readonly("polygon",
                              [](const ext::SupportPlane& p) {
                                Eigen::MatrixX3d out(p.polygon.size(), 3);

@@ -1,5 +1,7 @@
 """The extension and signal layers from Python: normals (zero-copy results), the support plane,
 the depth filter, and their nodes in a graph."""
+import json
+
 import numpy as np
 import pytest
 
@@ -31,6 +33,25 @@ def test_estimate_normals_returns_a_view_of_the_cpp_result(scene):
         mereo.extension.estimate_normals(cloud, method="sobel")
     with pytest.raises(mereo.InputError, match="window must be odd"):
         mereo.extension.estimate_normals(cloud, window=4)
+
+
+@pytest.mark.parametrize("depth_model, seeds, tolerance", [("kinect", (7, 8, 9), 0.15), ("stereo", (7, 8, 9), 0.25)])
+def test_support_plane_measures_the_depth_noise_of_its_camera(depth_model, seeds, tolerance):
+    # plane.noise (the depth error's deviation at 1 m, growing with z^2) against the renderer's
+    # own error on the table's farthest quarter: depth minus exact depth over z^2
+    for seed in seeds:
+        so = mereo.synthetic.SceneOptions()
+        so.depth_model = depth_model
+        sf = mereo.synthetic.render(seed, so)
+        cloud = mereo.extension.back_project(sf.frame)
+        plane = mereo.extension.find_support_plane(cloud, mereo.extension.estimate_normals(cloud))
+        table = next(o["id"] for o in json.loads(sf.truth_json())["objects"] if o["model"] == "table")
+        depth, exact = np.asarray(sf.frame.depth, float), np.asarray(sf.truth.depth, float)
+        on = (np.asarray(sf.truth.objects) == table) & (depth > 0) & (exact > 0)
+        far = on & (exact >= np.quantile(exact[on], 0.75))
+        e = (depth - exact)[far] / exact[far] ** 2
+        truth = 1.4826 * np.median(np.abs(e - np.median(e)))
+        assert plane.noise == pytest.approx(truth, rel=tolerance), (depth_model, seed)
 
 
 def test_support_plane_matches_the_ground_truth(scene):

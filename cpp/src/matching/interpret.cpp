@@ -152,7 +152,8 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
   }
   if (plane && plane->inlier_count > 0)
     j["support_plane"] = {{"normal", Json::array({plane->normal.x(), plane->normal.y(), plane->normal.z()})},
-                          {"d", plane->d}, {"inliers", plane->inlier_count}, {"rms", plane->rms}};
+                          {"d", plane->d}, {"inliers", plane->inlier_count}, {"rms", plane->rms},
+                          {"noise", plane->noise}};
   if (frame.pose) {  // camera to world, as TUM's groundtruth.txt writes it
     const Eigen::Quaterniond q(frame.pose->linear());
     const Eigen::Vector3d t = frame.pose->translation();

@@ -32,6 +32,9 @@ class SupportPlane:
     def inliers(self) -> typing.Any:
         ...
     @property
+    def noise(self) -> float:
+        ...
+    @property
     def normal(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         ...
     @property

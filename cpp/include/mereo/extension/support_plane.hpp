@@ -86,6 +86,11 @@ struct SupportPlane {
   Mask roi;                           ///< pixels above the plane, inside the polygon
   std::size_t inlier_count = 0;
   double rms = 0.0;                   ///< RMS distance of the inliers to the plane, metres
+  /// The depth's noise, measured on the plane: the standard deviation of a point's error along
+  /// its line of sight at 1 m (metres), taken to grow with the square of the depth (structured
+  /// light and stereo alike), from the spread of its farther points (support_plane.cpp: depth_noise).
+  /// 0 = too few points to tell.
+  double noise = 0.0;
   /// World frame with z up from the table: origin = the inliers' centroid projected on the
   /// plane, z = normal, x = the camera's x projected on the plane. x_world = world_from_camera * x.
   Pose world_from_camera = Pose::Identity();

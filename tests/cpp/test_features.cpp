@@ -429,6 +429,22 @@ TEST(Features, TheWiderRestOfATaperedWallIsNoHandle) {
     for (double y = 0.045; y >= -0.045; y -= 0.004)
       straight.push_back(jitter({B.radius * std::sin(a), y, 1.0 - B.radius * std::cos(a)}));
   EXPECT_FALSE(features::tapered_wall(B, straight, handle, tolerance));
+  // a handle's pixels (a third of its outer arc) with as many again of the wall about its roots (a
+  // fat tube fitted to a D-shaped handle takes them: rendered stereo 4512, 54% of its points on
+  // the wall): just over half lie on a line through the wall, yet a third stand beyond it, as no
+  // tapered wall's do (the rule without that took it for one)
+  std::vector<Eigen::Vector3d> rooted;
+  for (std::size_t i = 0; i < handle.size(); i += 3) rooted.push_back(handle[i]);
+  const std::size_t arc = rooted.size();
+  for (std::size_t i = 0; rooted.size() < 2 * arc + 10; ++i) {
+    const double a = 0.45 + 0.25 * double(i % 6) / 5, y = -0.03 + 0.06 * double((i / 6) % 13) / 12;
+    rooted.push_back(jitter({B.radius * std::sin(a), y, 1.0 - B.radius * std::cos(a)}));
+  }
+  std::vector<Eigen::Vector3d> body_wall;  // (the body's own pixels outnumber the torus's 4 to 1)
+  for (double a = -0.7; a <= 0.7; a += 0.035)
+    for (double y = 0.045; y >= -0.045; y -= 0.002)
+      body_wall.push_back(jitter({B.radius * std::sin(a), y, 1.0 - B.radius * std::cos(a)}));
+  EXPECT_FALSE(features::tapered_wall(B, body_wall, rooted, tolerance));
   // a wall that would have to flare by 40 degrees to reach the points is no cup's
   std::vector<Eigen::Vector3d> flare;
   for (double a = -0.7; a <= 0.7; a += 0.05)

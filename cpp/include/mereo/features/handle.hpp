@@ -23,7 +23,8 @@
 //     leaning on a jar).
 //  6. it is no handle when its ring is centred inside the body and most of its pixels lie on the
 //     body's wall (wall_patch: a grown stereo wall bent into a tube), or when a cone through the
-//     body's points holds most of them (tapered_wall: a tapered cup's wider rest of its wall).
+//     body's points holds most of them and few stand beyond it (tapered_wall: a tapered cup's
+//     wider rest of its wall).
 // Where the depth shows no handle, its silhouette is looked for in the colour image (`from_colour`,
 // detail::colour_handle in features/pixels.hpp): beside the body's limbs, in the body's colour and
 // not the background's, shaped as a handle (reach, height span, a loop that does not fill its box);

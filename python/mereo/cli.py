@@ -128,7 +128,8 @@ def _demo_extension(sf, out: Path) -> None:
     up = np.asarray(f.pose)[:3, :3].T @ np.array([0.0, 0.0, 1.0])
     tilt = np.degrees(np.arccos(np.clip(plane.normal @ up, -1.0, 1.0)))
     print(f"support plane: {plane.inlier_count} table points, normal {tilt:.2f} deg from the truth, "
-          f"{int(plane.roi.sum())} pixels above it (the region searched for objects)")
+          f"{int(plane.roi.sum())} pixels above it (the region searched for objects); the depth's noise "
+          f"measured on it {1000 * plane.noise:.1f} mm at 1 m (growing with the distance squared)")
     roi = plane.roi.astype(bool)[..., None]
     shown = np.where(roi, f.color, f.color // 3).astype(np.uint8)
     path = out / "extension.png"

@@ -119,6 +119,9 @@ def test_demo_runs_the_extension_layer_against_the_truth(tmp_path):
                          capture_output=True, text=True, check=True).stdout
     tilt = float(re.search(r"support plane: \d+ table points, normal ([0-9.]+) deg", out).group(1))
     assert tilt < 1.0
+    # the default scene's Kinect-like depth: about 2 mm at 1 m (its true error 1.8-2.0 on seeds 7-9)
+    noise = float(re.search(r"the depth's noise measured on it ([0-9.]+) mm at 1 m", out).group(1))
+    assert 1.0 < noise < 3.0
     share = float(re.search(r"normals \(fast\): ([0-9.]+)% of valid pixels", out).group(1))
     assert share > 95
     assert (tmp_path / "extension.png").stat().st_size > 10000

@@ -365,9 +365,10 @@ TEST(SupportPlane, TheDeskWithObjectsInViewOverALargerFloorNotTheTopOfABox) {
 }
 
 // SupportPlane::noise against the noise put in: a desk with mug-sized blocks on it and the floor
-// beyond, each point moved along its ray by Gaussian noise of s z^2 (s = 1, 2 and 4 mm at 1 m, uncorrelated: more leaves the plane search without the desk);
-// the blocks' feet and the desk's edges must not inflate it. Then the renderer's active-stereo
-// depth against its model's own figure: the disparity noise over focal length times baseline.
+// beyond, each point moved along its ray by Gaussian noise of s z^2 (s = 1, 2 and 4 mm at 1 m;
+// uncorrelated noise beyond that leaves the plane search without the desk); the blocks' feet and
+// the desk's edges must not inflate it. Then the renderer's active-stereo depth against its
+// model's own figure: the disparity noise over focal length times baseline.
 TEST(SupportPlane, MeasuresTheDepthNoiseItWasGiven) {
   const std::vector<Box> desk_and_things = {
       {{-0.3, -0.25, 0.69}, {0.3, 0.25, 0.72}}, {{-0.05, 0.0, 0.72}, {0.03, 0.08, 0.82}},

@@ -113,8 +113,9 @@ double handle_evidence(Track& t, const DepthImage& depth, const Intrinsics& K, c
     part.recent_points.push_back(std::move(points));
     if (int(part.recent_points.size()) > o.turn_views) part.recent_points.erase(part.recent_points.begin());
     if (part.recent_points.size() < 2) continue;
-    std::vector<Eigen::Vector3d> all;
-    for (const auto& v : part.recent_points) all.insert(all.end(), v.begin(), v.end());
+    std::vector<Eigen::Vector3d> views, buffer;
+    for (const auto& v : part.recent_points) views.insert(views.end(), v.begin(), v.end());
+    const auto& all = features::detail::subsample_into(views, buffer, std::size_t(std::max(6, o.turn_points)));
     // the ring with the plane held (the tube too, if letting it go makes it implausibly fat)
     const Segment held = features::refit_handle_or_hold(body, part.world, all,
                                                         [&](const Segment& s) { return o.handle.plausible(s); });

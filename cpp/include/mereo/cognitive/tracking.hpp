@@ -71,7 +71,10 @@ struct TrackOptions {
   double reference_inliers = 1000;      ///< ... for a fit to this many pixels (falls as 1/sqrt(inliers))
   double depth_tolerance = 0.01;        ///< visibility: a surface within this of a part's is the part, metres
   double visible_pixels = 300;          ///< a part this large in the image (pixels) gives a full contradiction
-  int turn_views = 8;                   ///< a handle's surroundings: the last views fitted together
+  int turn_views = 8;                   ///< a handle's surroundings: the last views fitted together ...
+  /// ... at most this many of their points, evenly strided (the ring and its turn have six
+  /// parameters; 8 views of up to 400 points each made this fit most of the tracker's time)
+  int turn_points = 200;
   /// What a handle is (its ranges; max_turn_deg: a ring the views together turn further from the
   /// body's axis is no handle): the detector's own (features/handle.hpp).
   features::HandleOptions handle;

@@ -22,12 +22,12 @@
 //    `drifted` more when the view sees through where the part should be (the track's part is
 //    not there: a ring fitted as a handle from another side); with depth, the points around a
 //    handle (where the track holds it, off the body's wall) in the last `turn_views` views that
-//    show them are fitted together, world frame, with the ring plane held through the body's
-//    axis and free to turn about it: a ring that turns away (HandleOptions::max_turn_deg, with a
-//    clearly better fit: turn_residual_ratio of the held one) adds `drifted` per view (a ring
-//    leaning on a jar: each view alone may see it nearly edge-on and pass it for a handle, the
-//    views together do not); without depth, only a part behind
-//    the body and within its silhouette counts as hidden; a track not seen at all decays towards
+//    show them (at most `turn_points` of them) are fitted together, world frame, with the ring
+//    plane held through the body's axis and free to turn about it: a ring that turns away
+//    (HandleOptions::max_turn_deg, with a clearly better fit: turn_residual_ratio of the held
+//    one) adds `drifted` per view (a ring leaning on a jar: each view alone may see it nearly
+//    edge-on and pass it for a handle, the views together do not); without depth, only a part
+//    behind the body and within its silhouette counts as hidden; a track not seen at all decays towards
 //    undecided by `decay` per frame (belief only: the evidence against it is kept);
 //  - rejected hypotheses are not forgotten: a track below `report` is not reported but is held,
 //    with the evidence against it (down to `floor`), as long as its body stays in view, so that a

@@ -27,8 +27,8 @@
 //    (HandleOptions::max_turn_deg, with a clearly better fit: turn_residual_ratio of the held
 //    one) adds `drifted` per view (a ring leaning on a jar: each view alone may see it nearly
 //    edge-on and pass it for a handle, the views together do not); without depth, only a part
-//    behind the body and within its silhouette counts as hidden; a track not seen at all decays towards
-//    undecided by `decay` per frame (belief only: the evidence against it is kept);
+//    behind the body and within its silhouette counts as hidden; a track not seen at all decays
+//    towards undecided by `decay` per frame (belief only: the evidence against it is kept);
 //  - rejected hypotheses are not forgotten: a track below `report` is not reported but is held,
 //    with the evidence against it (down to `floor`), as long as its body stays in view, so that a
 //    later view that happens to support it does not start it afresh; tracks unseen for

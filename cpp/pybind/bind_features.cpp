@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "mereo/features/edges.hpp"
+#include "mereo/features/patches.hpp"
 #include "mereo/features/primitives.hpp"
 #include "mereo/features/regions.hpp"
 #include "numpy_view.hpp"
@@ -19,6 +20,7 @@ void bind_features(py::module_& m) {
   namespace ft = mereo::features;
   pu::register_options<ft::DetectOptions>("DetectOptions");
   pu::register_options<ft::RegionOptions>("RegionOptions");
+  pu::register_options<ft::PatchOptions>("PatchOptions");
   pu::register_options<ft::EdgePrimitiveOptions>("EdgePrimitiveOptions");
   const std::string edges_doc = pu::takes_options(
       m, "detect_edge_primitives", "EdgePrimitiveOptions",
@@ -64,6 +66,25 @@ void bind_features(py::module_& m) {
             "mask of the pixels to use. `unfiltered`: the (H, W, 3) points of the unfiltered depth when the "
             "cloud's was filtered; cylinders and spheres are then measured on them (smoothing flattens curved "
             "surfaces).")
+            .c_str());
+  m.def("planar_patches",
+        [](py::handle cloud, py::handle normals, py::object up, py::object color, py::kwargs options) {
+          const auto o = pu::options_from_kwargs<ft::PatchOptions>("planar_patches", options);
+          const auto c = from_numpy<float, 3>(cloud, "cloud");
+          const auto n = from_numpy<float, 3>(normals, "normals");
+          std::optional<Eigen::Vector3d> u;
+          if (!up.is_none()) u = up.cast<Eigen::Vector3d>();
+          mereo::ColorImage col;
+          if (!color.is_none()) col = from_numpy<std::uint8_t, 3>(color, "color");
+          py::gil_scoped_release release;
+          return ft::planar_patches(c, n, o, u ? &*u : nullptr, col.empty() ? nullptr : &col);
+        },
+        py::arg("cloud"), py::arg("normals"), py::arg("up") = py::none(), py::arg("color") = py::none(),
+        pu::takes_options(m, "planar_patches", "PatchOptions",
+                          "Bounded planar patches of an (H, W, 3) cloud with (H, W, 3) normals, largest first "
+                          "(mereo.knowledge.Segment objects of class patch; .pixels holds each one's pixels). "
+                          "`up`: the direction against gravity in the camera frame (upright patches then have a "
+                          "horizontal u_axis).")
             .c_str());
   m.def("label_image",
         [](const std::vector<mereo::Segment>& segments, int rows, int cols) {

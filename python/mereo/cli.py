@@ -429,7 +429,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     g = sub.add_parser("recognize", help="recognize objects: one JSON line per frame (DESIGN.md's contract)")
     g.add_argument("inputs", nargs="+", help=".pcd files, PNG-pair folders, TUM folders, synthetic:SEED")
-    g.add_argument("--graph", help="a pipeline file (default: the shipped graphs/tabletop.yaml)")
+    g.add_argument("--graph", help="a pipeline file, or a shipped one by name (room: furniture in rooms; "
+                   "default: the shipped graphs/tabletop.yaml)")
     g.add_argument("--models", nargs="+", metavar="NAME_OR_FILE", help="concepts to look for, or a YAML model file")
     g.add_argument("--goal", help="one concept to look for; it drives the top-down search (e.g. mug)")
     g.add_argument("--intrinsics", help="fx,fy,cx,cy or a JSON file")

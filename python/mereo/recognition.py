@@ -69,13 +69,15 @@ def goal_options(goal: str | None, models_file: str = "") -> dict:
 def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | None = None,
                    models_file: str = "", graph: str | Path | None = None, tracking: bool = False,
                    odometry: bool = False) -> Graph:
-    """The tabletop pipeline (or the graph file `graph`), with the models to look for (names of
+    """The tabletop pipeline (or the graph file `graph`, or a shipped graph by name: "room"), with the models to look for (names of
     concepts; default all the file's) and an optional goal that restricts them and drives the
     top-down search (``goal="mug"``: the models become ["mug"], primitives the mug's classes).
     With `tracking`, the pipeline of ``tabletop_tracking.yaml``: hypotheses held across the
     frames of a sequence (the frames' poses; with `odometry`, ``tabletop_odometry.yaml``: poses
     estimated from the frames), each reported object with its "track" id."""
     name = "tabletop_odometry.yaml" if tracking and odometry else "tabletop_tracking.yaml" if tracking else "tabletop.yaml"
+    if graph and not Path(graph).exists() and Path(graph).suffix == "" and "/" not in str(graph):
+        graph = _graph_path(f"{graph}.yaml")  # a shipped graph by name: "room" is graphs/room.yaml
     g = Graph.load(str(graph) if graph else str(_graph_path(name)))
     # what this function and `mereo recognize` use of the graph: the node "result" whose output
     # "result" is the JSON result, and the node "models" that the models and goal configure

@@ -13,6 +13,7 @@
 #include "mereo/extension/projection.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/primitives.hpp"
+#include "mereo/features/patches.hpp"
 #include "mereo/features/regions.hpp"
 #include "mereo/signal/depth_filter.hpp"
 #include "mereo/synthetic/scene.hpp"
@@ -1314,4 +1315,83 @@ TEST(Features, TheRangeResidualsGradientMatchesItsDifferences) {
     check(s, s.pack(), x);
   }
   EXPECT_EQ(checked, 600);
+}
+
+// Bounded planar patches against a ray-cast room with exact sizes: a floor 1.3 m below the camera,
+// a coffee table's top 0.45 m above it (1.2 x 0.7 m), a wall 4.5 m ahead, and a door leaf standing ajar in
+// front of it (a door flush with its wall is one plane with it: depth alone cannot part them). Each is one patch with its true size and area; with gravity the
+// upright ones' rectangles stand along it.
+TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
+  const int rows = 480, cols = 640;
+  const double f = 525, cx = 319.5, cy = 239.5;
+  // the camera looks 10 degrees down (the door's top in view); room frame: x right, y down (gravity), z ahead, the eye at
+  // its origin 1.3 m above the floor
+  const double pitch = 10 * M_PI / 180;
+  const Eigen::Matrix3d room_from_camera = Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Vector3d eye = Eigen::Vector3d::Zero();
+  struct Rect {
+    Eigen::Vector3d c, n, u;
+    double su, sv;
+  };
+  const std::vector<Rect> rects = {
+      {{0, 1.3, 3}, {0, -1, 0}, {1, 0, 0}, 8, 8},                // floor
+      {{0.2, 0.85, 2.4}, {0, -1, 0}, {1, 0, 0}, 1.2, 0.7},       // a coffee table's top, 0.45 m high
+      {{0, -0.2, 4.5}, {0, 0, -1}, {1, 0, 0}, 8, 3},             // wall
+      {{-1.3, 0.3, 4.2}, {0.5, 0, -0.866}, {0.866, 0, 0.5}, 0.9, 2.0}};  // a door leaf ajar (30 degrees)
+  Cloud cloud(rows, cols);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u) {
+      const Eigen::Vector3d ray_c((u - cx) / f, (v - cy) / f, 1.0);
+      const Eigen::Vector3d ray = room_from_camera * ray_c;
+      double best = INFINITY;
+      for (const Rect& r : rects) {
+        const double den = r.n.dot(ray);
+        if (std::abs(den) < 1e-9) continue;
+        const double t = r.n.dot(r.c - eye) / den;
+        if (!(t > 0) || t >= best) continue;
+        const Eigen::Vector3d q = eye + t * ray - r.c, w = r.n.cross(r.u);
+        if (std::abs(q.dot(r.u)) <= r.su / 2 && std::abs(q.dot(w)) <= r.sv / 2) best = t;
+      }
+      const Eigen::Vector3d p = ray_c * best;  // camera frame: ray_c has z = 1
+      for (int k = 0; k < 3; ++k) cloud.ptr(v, u)[k] = std::isfinite(best) ? float(p(k)) : NAN;
+    }
+  const NormalMap normals = extension::estimate_normals(cloud);
+  const Eigen::Vector3d up = room_from_camera.transpose() * -Eigen::Vector3d::UnitY();
+  const auto patches = features::planar_patches(cloud, normals, {}, &up);
+  ASSERT_GE(patches.size(), 4u);
+  const auto near_to = [&](const Rect& r) -> const shapes::Patch* {
+    const Eigen::Vector3d c = room_from_camera.transpose() * (r.c - eye);
+    for (const auto& s : patches) {
+      const auto& p = s.as<shapes::Patch>();
+      if (std::abs(p.normal.dot(room_from_camera.transpose() * r.n)) > 0.999 && std::abs(p.normal.dot(p.point - c)) < 0.01)
+        if ((p.point - c).norm() < 0.6 * std::max(r.su, r.sv)) return &p;
+    }
+    return nullptr;
+  };
+  // the table top: whole in view, its size and area to within 2 cm and 4%
+  const auto* top = near_to(rects[1]);
+  ASSERT_NE(top, nullptr);
+  EXPECT_NEAR(std::max(top->size_u, top->size_v), 1.2, 0.02);
+  EXPECT_NEAR(std::min(top->size_u, top->size_v), 0.7, 0.02);
+  EXPECT_NEAR(top->area, 1.2 * 0.7, 0.04 * 1.2 * 0.7);
+  EXPECT_NEAR((top->point - room_from_camera.transpose() * (rects[1].c - eye)).norm(), 0.0, 0.02);
+  // the door: upright, so u_axis is horizontal and size_v its height
+  const auto* door = near_to(rects[3]);
+  ASSERT_NE(door, nullptr);
+  EXPECT_LT(std::abs(door->u_axis.dot(up)), 1e-6);
+  EXPECT_NEAR(door->size_u, 0.9, 0.02);
+  EXPECT_NEAR(door->size_v, 2.0, 0.05);  // 4.2 m away: its foot meets the floor, which takes a rim of it
+  // the floor and the wall are single patches, not pieces, and the door is apart from the wall
+  ASSERT_NE(near_to(rects[0]), nullptr);
+  ASSERT_NE(near_to(rects[2]), nullptr);
+  EXPECT_NE(near_to(rects[2]), door);
+  std::size_t large = 0;
+  std::string areas;
+  for (const auto& s : patches) {
+    large += s.as<shapes::Patch>().area > 0.3;
+    areas += " " + std::to_string(s.as<shapes::Patch>().area);
+  }
+  EXPECT_EQ(large, 4u) << "areas:" << areas;
+  // bad input: sizes that differ
+  EXPECT_THROW(features::planar_patches(cloud, NormalMap(2, 2)), InputError);
 }

@@ -20,6 +20,7 @@ NODES = {
     "match_models": ("MatchOptions", K.recognize, set(), {"min_score"}),
     "interpret": ("InterpretOptions", None, set(), set()),
     "find_regions": ("RegionOptions", None, set(), set()),
+    "detect_patches": ("PatchOptions", F.planar_patches, set(), set()),
     "report": (None, None, {"track_probability"}, set()),
     "track_objects": ("TrackOptions", None, set(), set()),
     "odometry": ("OdometryOptions", None, {"replace"}, set()),
@@ -88,6 +89,8 @@ def call(kind, scene, **options):
     if kind == "detect_edges":
         return [(s.cls, s.inliers, s.params.get("start_px", s.params.get("center_px")).tolist())
                 for s in F.detect_edge_primitives(frame, **options)]
+    if kind == "detect_patches":
+        return [(s.inliers, s.params["area"]) for s in F.planar_patches(cloud, normals, **options)]
     if kind == "match_models":
         segs = F.detect_primitives(cloud, normals, roi=plane.roi)
         lattice = K.recognize(K.load_models(), ["mug", "cup"], segs, **options)

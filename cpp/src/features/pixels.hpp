@@ -19,6 +19,14 @@ namespace mereo::features::detail {
 
 constexpr double kDeg = M_PI / 180.0;
 
+/// The q-quantile of v (reordered), 0 for none.
+inline double quantile(std::vector<double>& v, double q) {
+  if (v.empty()) return 0;
+  const auto k = std::size_t(q * double(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+  return v[k];
+}
+
 inline bool finite3(const float* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
 /// A set of indices below n that empties in constant time: each index holds the generation that

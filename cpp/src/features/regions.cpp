@@ -12,13 +12,7 @@
 namespace mereo::features {
 namespace {
 
-/// The q-quantile of v (reordered), 0 for none.
-double quantile(std::vector<double>& v, double q) {
-  if (v.empty()) return 0;
-  const auto k = std::size_t(q * double(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-  return v[k];
-}
+using detail::quantile;
 
 /// The upright box of a region's world points (z up from the support), robust to a few stray
 /// points: the 2nd to 98th percentiles.

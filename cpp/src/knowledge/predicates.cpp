@@ -273,7 +273,7 @@ const std::vector<std::string>& attribute_names() {
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
     for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "rest_gap", "inliers", "residual", "hue", "inward",
-                          "closed_end", "open_end", "bend", "out_of_round", "rise"})
+                          "closed_end", "open_end", "bend", "out_of_round", "rise", "top", "bottom"})
       n.push_back(g);
     return n;
   }();
@@ -306,6 +306,14 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
     const Eigen::Vector3d up = ctx.up.normalized();
     const double c = std::min(1.0, std::abs(axis->normalized().dot(up)));
     return up.dot(s.origin()) + ctx.support_d - 0.5 * *h * c - *r * std::sqrt(1 - c * c);
+  }
+  if (name == "top" || name == "bottom") {
+    // the highest / lowest point of the part above the support (a seat's height above the floor,
+    // a door's lower edge), from its extent along up; NaN without a support
+    if (!std::isfinite(ctx.support_d)) return NAN;
+    const Eigen::Vector3d up = ctx.up.normalized();
+    const double centre = up.dot(s.origin()) + ctx.support_d, half = s.half_extent_along(up);
+    return name == "top" ? centre + half : centre - half;
   }
   if (name == "inliers") return double(s.inliers);
   if (name == "residual") return s.residual;

@@ -14,6 +14,7 @@ std::vector<graph::NodeSpec> builtin_node_specs() {
       detect_primitives_node(),
       detect_edges_node(),
       find_regions_node(),
+      detect_patches_node(),
       models_node(),
       match_models_node(),
       interpret_node(),

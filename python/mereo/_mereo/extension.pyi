@@ -82,6 +82,7 @@ def find_support_plane(cloud: typing.Any, normals: typing.Any, up: typing.Annota
         candidates (int, default 4, 1..50): distinct planes compared
         min_share (float, default 0.3, 0..1): a higher plane's least share of the heaviest plane's weight
         min_area (float, default 0.05, 0..100): a higher plane's least area, square metres
+        prefer (str, default highest, one of highest lowest): of parallel planes a step apart: the highest (a table) or the lowest (a room's floor)
         min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
         max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
         margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres

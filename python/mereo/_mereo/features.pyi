@@ -7,7 +7,7 @@ import mereo._mereo
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['detect_edge_primitives', 'detect_primitives', 'label_image']
+__all__: list[str] = ['detect_edge_primitives', 'detect_primitives', 'label_image', 'planar_patches']
 @typing.overload
 def detect_edge_primitives(frame: mereo._mereo.Frame, **kwargs) -> list[...]:
     """
@@ -83,4 +83,17 @@ def detect_primitives(cloud: typing.Any, normals: typing.Any, roi: typing.Any = 
 def label_image(segments: collections.abc.Sequence[...], rows: typing.SupportsInt, cols: typing.SupportsInt) -> numpy.typing.NDArray[numpy.int32]:
     """
     An (rows, cols) int32 image of the index of the segment owning each pixel (-1: none): the inlier masks.
+    """
+def planar_patches(cloud: typing.Any, normals: typing.Any, up: typing.Any = None, color: typing.Any = None, **kwargs) -> list[...]:
+    """
+    Bounded planar patches of an (H, W, 3) cloud with (H, W, 3) normals, largest first (mereo.knowledge.Segment objects of class patch; .pixels holds each one's pixels). `up`: the direction against gravity in the camera frame (upright patches then have a horizontal u_axis).
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        step (int, default 2, 1..16): grid step of the region growing, pixels
+        epsilon (float, default 0.012, 0.0001..0.5): a point's distance to its patch's plane at 1 m, metres
+        max_angle_deg (float, default 20, 1..90): a point's normal to its patch's, degrees
+        depth_jump (float, default 0.04, 0.001..1): a depth step between neighbours (times the depth) that parts patches
+        min_area (float, default 0.02, 0..10000): least area of a patch, square metres
+        min_pixels (int, default 300, 1..1e+07): fewest pixels of a patch
+        upright_deg (float, default 30, 0..90): with gravity: patches this close to upright get a horizontal u_axis
     """

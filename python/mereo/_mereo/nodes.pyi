@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'detect_edges', 'find_regions', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'detect_edges', 'find_regions', 'detect_patches', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -41,6 +41,26 @@ def detect_edges(**kwargs) -> mereo._mereo.NodeTemplate:
         lift (bool, default true): fit 3-D lines and circles where the frame has depth
         lift_window_px (int, default 2, 0..10): half-size of the window a pixel takes its depth from
         lift_tolerance (float, default 0.01, 0.0001..1): RMS about a lifted fit, metres at 1 m (grows with z)
+    """
+def detect_patches(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    Bounded planar patches (floor, walls, table tops, seats, doors) by organized region growing.
+    
+    Inputs:
+        cloud (Cloud): organized XYZ cloud
+        normals (NormalMap): per-pixel normals
+        plane (SupportPlane, optional): the floor: its normal is up (upright patches' rectangles)
+        frame (Frame, optional): the frame of the cloud: the patches' colour
+    Outputs:
+        segments (Segments): the patches, largest first
+    Options:
+        step (int, default 2, 1..16): grid step of the region growing, pixels
+        epsilon (float, default 0.012, 0.0001..0.5): a point's distance to its patch's plane at 1 m, metres
+        max_angle_deg (float, default 20, 1..90): a point's normal to its patch's, degrees
+        depth_jump (float, default 0.04, 0.001..1): a depth step between neighbours (times the depth) that parts patches
+        min_area (float, default 0.02, 0..10000): least area of a patch, square metres
+        min_pixels (int, default 300, 1..1e+07): fewest pixels of a patch
+        upright_deg (float, default 30, 0..90): with gravity: patches this close to upright get a horizontal u_axis
     """
 def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
     """
@@ -229,6 +249,7 @@ def support_plane(**kwargs) -> mereo._mereo.NodeTemplate:
         candidates (int, default 4, 1..50): distinct planes compared
         min_share (float, default 0.3, 0..1): a higher plane's least share of the heaviest plane's weight
         min_area (float, default 0.05, 0..100): a higher plane's least area, square metres
+        prefer (str, default highest, one of highest lowest): of parallel planes a step apart: the highest (a table) or the lowest (a room's floor)
         min_height (float, default 0.006, 0..1): ROI: lowest height above the plane, metres
         max_height (float, default 0.4, 0.01..5): ROI: highest height above the plane, metres
         margin (float, default 0, -1..1): ROI: polygon shrunk by this, metres

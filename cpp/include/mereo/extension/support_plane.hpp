@@ -39,6 +39,9 @@ struct SupportPlaneOptions {
   int candidates = 4;
   double min_share = 0.3;
   double min_area = 0.05;
+  /// Of parallel planes a step apart, the support is the highest (a table: the tabletop graph) or
+  /// the lowest (a room's floor under its tables and seats: the room graph) that qualifies.
+  enum class Prefer { Highest, Lowest } prefer = Prefer::Highest;
   /// The region of interest: points between min_height and max_height above the plane whose
   /// projection falls inside the polygon shrunk by `margin` (metres). min_height is its value
   /// at 1 m and grows with z^2 beyond (depth noise), so that the table's own noisy points stay out.
@@ -64,6 +67,8 @@ inline const Fields<SupportPlaneOptions>& SupportPlaneOptions::fields() {
       field("candidates", &O::candidates, 1, 50, "distinct planes compared"),
       field("min_share", &O::min_share, 0, 1, "a higher plane's least share of the heaviest plane's weight"),
       field("min_area", &O::min_area, 0, 100, "a higher plane's least area, square metres"),
+      choice("prefer", &O::prefer, {{"highest", O::Prefer::Highest}, {"lowest", O::Prefer::Lowest}},
+             "of parallel planes a step apart: the highest (a table) or the lowest (a room's floor)"),
       field("min_height", &O::min_height, 0, 1, "ROI: lowest height above the plane, metres"),
       field("max_height", &O::max_height, 0.01, 5, "ROI: highest height above the plane, metres"),
       field("margin", &O::margin, -1, 1, "ROI: polygon shrunk by this, metres"),

@@ -13,6 +13,7 @@
 #include "mereo/shapes/cone.hpp"
 #include "mereo/shapes/cylinder.hpp"
 #include "mereo/shapes/line.hpp"
+#include "mereo/shapes/patch.hpp"
 #include "mereo/shapes/plane.hpp"
 #include "mereo/shapes/region.hpp"
 #include "mereo/shapes/sphere.hpp"
@@ -29,7 +30,8 @@ using Geometry = std::variant<
     shapes::Line,
     shapes::Arc,
     shapes::Cone,
-    shapes::Region>;
+    shapes::Region,
+    shapes::Patch>;
 
 namespace shapes::detail {
 template <class S, class V>

@@ -1,0 +1,54 @@
+// mereo/features/patches.hpp: bounded planar patches (shapes/patch.hpp) of an organized cloud, the
+// primitives of a room (floors, walls, table tops, seats, backs, doors): an organized multi-plane
+// segmentation that grows regions over a pixel grid, each held to the plane of what it has
+// gathered so far (a curved sofa or a ball does not grow into one long patch), apart at depth
+// jumps, and describes each as the rectangle that holds it in its plane.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mereo/core/image.hpp"
+#include "mereo/core/options.hpp"
+#include "mereo/core/segment.hpp"
+
+namespace mereo::features {
+
+struct PatchOptions {
+  int step = 2;                 ///< the grid's step, pixels (its cells are grown; every pixel is labelled)
+  double epsilon = 0.012;       ///< a point's distance to the patch's plane at 1 m, metres (grows with z^2)
+  double max_angle_deg = 20.0;  ///< between a point's normal and the patch's plane's
+  double depth_jump = 0.04;     ///< a depth step between grid neighbours (times the depth) that parts patches
+  double min_area = 0.02;       ///< smaller patches are none, square metres
+  int min_pixels = 300;         ///< ... and those with fewer pixels
+  /// With gravity known, a patch within this of upright (a wall, a door, a chair's back) has its
+  /// u_axis horizontal and size_v its height; others (and all without gravity) their main direction.
+  double upright_deg = 30.0;
+
+  static const Fields<PatchOptions>& fields();
+};
+
+inline const Fields<PatchOptions>& PatchOptions::fields() {
+  using O = PatchOptions;
+  static const Fields<O> f = {
+      field("step", &O::step, 1, 16, "grid step of the region growing, pixels"),
+      field("epsilon", &O::epsilon, 1e-4, 0.5, "a point's distance to its patch's plane at 1 m, metres"),
+      field("max_angle_deg", &O::max_angle_deg, 1, 90, "a point's normal to its patch's, degrees"),
+      field("depth_jump", &O::depth_jump, 0.001, 1, "a depth step between neighbours (times the depth) that parts patches"),
+      field("min_area", &O::min_area, 0, 1e4, "least area of a patch, square metres"),
+      field("min_pixels", &O::min_pixels, 1, 1e7, "fewest pixels of a patch"),
+      field("upright_deg", &O::upright_deg, 0, 90, "with gravity: patches this close to upright get a horizontal u_axis"),
+  };
+  return f;
+}
+
+/// The planar patches of an organized cloud with normals (unit, NaN where undefined): segments of
+/// class patch, largest first, each with its pixels (every pixel within epsilon of its plane in
+/// the cells it grew over), inlier count, RMS residual and mean colour (with `color`). `up` (camera
+/// frame, against gravity; optional) orients upright patches' rectangles. Throws InputError when
+/// the sizes differ. Deterministic.
+std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals, const PatchOptions& options = {},
+                                    const Eigen::Vector3d* up = nullptr, const ColorImage* color = nullptr);
+
+}  // namespace mereo::features

@@ -1,0 +1,62 @@
+// mereo/shapes/patch.hpp: a bounded planar patch (a table top, a chair's seat or back, a door, a
+// wall) as the rectangle that holds its points in their plane: `point` at the rectangle's centre,
+// unit `normal` towards the camera, unit `u_axis` in the plane (horizontal for a patch that
+// stands upright when gravity is known, else its points' main direction), `size_u` along u_axis
+// and `size_v` across it (metres; the 2nd to 98th percentiles of the points), `area` (square
+// metres: its pixels' footprint on the plane, what is seen of it, not the rectangle's). Not
+// detected by RANSAC: found by features::planar_patches; models name it (graphs/models/room.yaml).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "mereo/shapes/shape.hpp"
+
+namespace mereo::shapes {
+
+struct Patch : Undetected<Patch> {
+  static constexpr const char* name = "patch";
+  static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
+  static constexpr std::array<const char*, 3> attributes = {"length", "width", "area"};  ///< names of attribute()
+
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d u_axis = Eigen::Vector3d::UnitX();
+  double size_u = 0.0, size_v = 0.0, area = 0.0;
+
+  /// The in-plane axis across u_axis.
+  Eigen::Vector3d v_axis() const { return normal.normalized().cross(u_axis).normalized(); }
+  Eigen::Vector3d origin() const { return point; }
+  std::optional<Eigen::Vector3d> direction() const { return normal; }
+  double size() const { return 0.5 * std::max(size_u, size_v); }
+  double extent() const { return 0.5 * std::hypot(size_u, size_v); }
+  double half_extent_along(const Eigen::Vector3d& dir) const {
+    return 0.5 * (std::abs(u_axis.dot(dir)) * size_u + std::abs(v_axis().dot(dir)) * size_v);
+  }
+  double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d* n = nullptr) const {
+    if (n) *n = normal;
+    return normal.dot(x - point);
+  }
+  double surface_distance(const Eigen::Vector3d& x) const;  ///< to the rectangle
+  void transform(const Eigen::Isometry3d& T) {
+    point = T * point, normal = T.linear() * normal, u_axis = T.linear() * u_axis;
+  }
+  void canonical() {
+    if (normal.dot(point) > 0) normal = -normal;  // towards the camera
+  }
+  void fields(FieldList& out, bool inward) const;
+  bool set_field(const std::string& key, const FieldValue& v);
+  std::optional<double> attribute(const std::string& key) const;
+  void outline(Outline& out) const;
+  void set_direction(const Eigen::Vector3d& d) {
+    normal = d.normalized();
+    u_axis = unit_across(u_axis, normal);
+  }
+  void tracked(TrackedParams& t) const {
+    for (int i = 0; i < 3; ++i) t.add(point(i), false);
+    t.add(size_u, false), t.add(size_v, false);
+  }
+  void set_tracked(const double* v) { point = Eigen::Vector3d(v[0], v[1], v[2]), size_u = v[3], size_v = v[4]; }
+};
+
+}  // namespace mereo::shapes

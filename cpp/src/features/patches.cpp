@@ -1,0 +1,236 @@
+// Bounded planar patches (mereo/features/patches.hpp).
+#include "mereo/features/patches.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "features/pixels.hpp"
+#include "mereo/core/error.hpp"
+#include "mereo/shapes/patch.hpp"
+
+namespace mereo::features {
+namespace {
+
+/// A plane fitted to a growing set of points: sums about a fixed reference point (numerics).
+struct PlaneSums {
+  Eigen::Vector3d ref = Eigen::Vector3d::Zero(), s = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d ss = Eigen::Matrix3d::Zero();
+  std::size_t n = 0;
+  void add(const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = p - ref;
+    s += q, ss += q * q.transpose(), ++n;
+  }
+  Eigen::Vector3d centroid() const { return ref + s / double(n); }
+  /// The normal of least scatter, on the side of `near`.
+  Eigen::Vector3d normal(const Eigen::Vector3d& near) const {
+    const Eigen::Vector3d m = s / double(n);
+    const Eigen::Matrix3d c = ss / double(n) - m * m.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(c);
+    Eigen::Vector3d out = es.eigenvectors().col(0);
+    return out.dot(near) < 0 ? Eigen::Vector3d(-out) : out;
+  }
+};
+
+/// The frame on the grid: cell k is pixel (gv * step, gu * step).
+struct Grid {
+  const Cloud& cloud;
+  const NormalMap& normals;
+  int step, gw, gh, W;
+  Grid(const Cloud& c, const NormalMap& n, int s)
+      : cloud(c), normals(n), step(s), gw((c.cols() + s - 1) / s), gh((c.rows() + s - 1) / s), W(c.cols()) {}
+  int pixel(int k) const { return (k / gw) * step * W + (k % gw) * step; }
+  Eigen::Vector3d p(int k) const {
+    const float* q = cloud.data() + 3 * std::size_t(pixel(k));
+    return Eigen::Vector3d(q[0], q[1], q[2]);
+  }
+  Eigen::Vector3d n(int k) const {
+    const float* q = normals.data() + 3 * std::size_t(pixel(k));
+    return Eigen::Vector3d(q[0], q[1], q[2]);
+  }
+  bool valid(int k) const {
+    const int i = pixel(k);
+    return valid_point(cloud.data() + 3 * std::size_t(i)) && std::isfinite(normals.data()[3 * std::size_t(i)]);
+  }
+};
+
+/// The size of a pixel seen at 1 m (1 / focal length), from the cloud: the median difference of
+/// x / z between horizontal neighbours on a few rows.
+double angular_pixel(const Cloud& cloud) {
+  std::vector<double> d;
+  const int H = cloud.rows(), W = cloud.cols();
+  for (int v = H / 16; v < H; v += std::max(1, H / 8))
+    for (int u = 0; u + 1 < W; ++u) {
+      const float *a = cloud.ptr(v, u), *b = cloud.ptr(v, u + 1);
+      if (valid_point(a) && valid_point(b)) d.push_back(double(b[0]) / b[2] - double(a[0]) / a[2]);
+    }
+  const double q = detail::quantile(d, 0.5);
+  return q > 0 ? q : 1.0 / 525;
+}
+
+}  // namespace
+
+std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals, const PatchOptions& o,
+                                    const Eigen::Vector3d* up, const ColorImage* color) {
+  if (!cloud.same_size(normals))
+    throw InputError("planar patches: cloud " + std::to_string(cloud.cols()) + "x" + std::to_string(cloud.rows()) +
+                     " and normals " + std::to_string(normals.cols()) + "x" + std::to_string(normals.rows()) +
+                     " differ in size");
+  if (color && !color->empty() && !color->same_size(cloud))
+    throw InputError("planar patches: the colour image's size differs from the cloud's");
+  if (o.step < 1) throw InputError("planar patches: step must be at least 1");
+  const Grid g(cloud, normals, o.step);
+  const int cells = g.gw * g.gh;
+  const double cos_max = std::cos(o.max_angle_deg * detail::kDeg);
+  const auto tol = [&](double z) { return o.epsilon * std::max(1.0, z * z); };
+  std::vector<int> label(std::size_t(cells), -1);  // the patch of a cell; -1 free
+  std::vector<std::uint8_t> valid(static_cast<std::size_t>(cells));
+  for (int k = 0; k < cells; ++k) valid[std::size_t(k)] = g.valid(k);
+
+  // Grows the free cells connected to `seed` that lie on the plane of those gathered so far
+  // (starting from n0 through c0), refitting it as the region doubles.
+  std::vector<int> queue;
+  std::vector<std::uint8_t> seen(std::size_t(cells), 0);
+  const auto grow = [&](int seed, Eigen::Vector3d n, Eigen::Vector3d c, PlaneSums& sums) {
+    queue.assign(1, seed);
+    seen[std::size_t(seed)] = 1;
+    sums = PlaneSums{};
+    sums.ref = g.p(seed);
+    std::size_t next_fit = 128;  // the first refits wait for an extent that outweighs the noise
+    for (std::size_t h = 0; h < queue.size(); ++h) {
+      const int k = queue[h];
+      const Eigen::Vector3d pk = g.p(k);
+      sums.add(pk);
+      if (sums.n >= next_fit) n = sums.normal(n), c = sums.centroid(), next_fit *= 2;
+      const int gu = k % g.gw, gv = k / g.gw;
+      const int nb[4][2] = {{gu - 1, gv}, {gu + 1, gv}, {gu, gv - 1}, {gu, gv + 1}};
+      for (const auto& q : nb) {
+        if (q[0] < 0 || q[0] >= g.gw || q[1] < 0 || q[1] >= g.gh) continue;
+        const int j = q[1] * g.gw + q[0];
+        if (seen[std::size_t(j)] || !valid[std::size_t(j)] || label[std::size_t(j)] >= 0) continue;
+        const Eigen::Vector3d pj = g.p(j);
+        if (std::abs(pj.z() - pk.z()) > o.depth_jump * pk.z()) continue;
+        if (std::abs(n.dot(pj - c)) > tol(pj.z()) || g.n(j).dot(n) < cos_max) continue;
+        seen[std::size_t(j)] = 1;
+        queue.push_back(j);
+      }
+    }
+    for (int k : queue) seen[std::size_t(k)] = 0;
+    return queue;
+  };
+
+  const double a = angular_pixel(cloud);
+  const int min_cells = std::max(3, o.min_pixels / (o.step * o.step));
+  std::vector<std::uint8_t> taken(std::size_t(cloud.rows()) * std::size_t(cloud.cols()), 0);
+  // seeds flattest first (as PCL's region growing orders them by curvature): a cell whose
+  // normal agrees with those two cells away on all four sides; a seed on an edge or in clutter
+  // would start a plane that cuts through its neighbours' patches
+  std::vector<std::pair<float, int>> seeds;
+  seeds.reserve(std::size_t(cells));
+  for (int k = 0; k < cells; ++k) {
+    if (!valid[std::size_t(k)]) continue;
+    const int gu = k % g.gw, gv = k / g.gw;
+    double flat = 0;
+    const Eigen::Vector3d nk = g.n(k);
+    for (const auto& q : {std::array<int, 2>{gu - 2, gv}, {gu + 2, gv}, {gu, gv - 2}, {gu, gv + 2}}) {
+      const int j = q[1] * g.gw + q[0];
+      flat += q[0] >= 0 && q[0] < g.gw && q[1] >= 0 && q[1] < g.gh && valid[std::size_t(j)] ? nk.dot(g.n(j)) : -1.0;
+    }
+    seeds.emplace_back(-float(flat), k);
+  }
+  std::stable_sort(seeds.begin(), seeds.end());
+  std::vector<Segment> out;
+  std::vector<std::uint8_t> tried(std::size_t(cells), 0);
+  for (const auto& [flatness, seed] : seeds) {
+    if (label[std::size_t(seed)] >= 0 || tried[std::size_t(seed)]) continue;
+    // grown twice: from the seed's normal, then from the plane that gathered (a noisy seed normal
+    // stops the first growth early)
+    PlaneSums sums;
+    std::vector<int> region = grow(seed, g.n(seed), g.p(seed), sums);
+    if (int(region.size()) < min_cells) {
+      for (int k : region) tried[std::size_t(k)] = 1;  // none of them starts a larger one
+      continue;
+    }
+    const Eigen::Vector3d n1 = sums.normal(g.n(seed)), c1 = sums.centroid();
+    region = grow(seed, n1, c1, sums);
+    if (int(region.size()) < min_cells) continue;
+    const int id = int(out.size());
+    for (int k : region) label[std::size_t(k)] = id;
+
+    shapes::Patch patch;
+    patch.normal = sums.normal(n1);
+    const Eigen::Vector3d c = sums.centroid();
+    // every pixel of the region's blocks on its plane; the seen area
+    std::vector<int> pixels;
+    double area = 0, sq = 0;
+    const int H = cloud.rows(), W = cloud.cols();
+    for (int k : region) {
+      const int u0 = (k % g.gw) * o.step, v0 = (k / g.gw) * o.step;
+      for (int v = v0; v < std::min(H, v0 + o.step); ++v)
+        for (int u = u0; u < std::min(W, u0 + o.step); ++u) {
+          const int i = v * W + u;
+          const float* q = cloud.ptr(v, u);
+          if (taken[std::size_t(i)] || !valid_point(q)) continue;
+          const Eigen::Vector3d x(q[0], q[1], q[2]);
+          const double dist = patch.normal.dot(x - c);
+          if (std::abs(dist) > tol(x.z())) continue;
+          taken[std::size_t(i)] = 1;
+          pixels.push_back(i);
+          sq += dist * dist;
+          // seen more obliquely than 75 degrees, a pixel counts as at 75 (grazing far floors)
+          const double facing = std::max(0.25, std::abs(patch.normal.dot(x.normalized())));
+          area += (x.z() * a) * (x.z() * a) / facing;
+        }
+    }
+    if (int(pixels.size()) < o.min_pixels || area < o.min_area) continue;
+    // the rectangle: upright patches along gravity, the others along their points' main direction
+    std::vector<Eigen::Vector3d> pts;
+    pts.reserve(pixels.size());
+    for (int i : pixels) {
+      const float* q = cloud.data() + 3 * std::size_t(i);
+      pts.emplace_back(q[0], q[1], q[2]);
+    }
+    const bool upright = up && std::abs(patch.normal.dot(up->normalized())) <= std::sin(o.upright_deg * detail::kDeg);
+    if (upright) {
+      patch.u_axis = shapes::unit_across(up->normalized().cross(patch.normal), patch.normal);
+    } else {
+      const Eigen::Vector3d e0 = patch.normal.unitOrthogonal(), e1 = patch.normal.cross(e0);
+      Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+      for (const auto& x : pts) {
+        const Eigen::Vector2d q(e0.dot(x - c), e1.dot(x - c));
+        cov += q * q.transpose();
+      }
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+      const Eigen::Vector2d m = es.eigenvectors().col(1);
+      patch.u_axis = (m.x() * e0 + m.y() * e1).normalized();
+    }
+    const Eigen::Vector3d v_axis = patch.normal.cross(patch.u_axis).normalized();
+    std::vector<double> su, sv;
+    su.reserve(pts.size()), sv.reserve(pts.size());
+    for (const auto& x : pts) su.push_back(patch.u_axis.dot(x - c)), sv.push_back(v_axis.dot(x - c));
+    // robust to stray points: the 2nd to 98th percentiles, widened to the whole side as they are
+    // for points spread evenly over it
+    constexpr double q = 0.02;
+    const double u0 = detail::quantile(su, q), u1 = detail::quantile(su, 1 - q);
+    const double v0 = detail::quantile(sv, q), v1 = detail::quantile(sv, 1 - q);
+    patch.size_u = (u1 - u0) / (1 - 2 * q), patch.size_v = (v1 - v0) / (1 - 2 * q), patch.area = area;
+    patch.point = c + patch.u_axis * (u0 + u1) / 2 + v_axis * (v0 + v1) / 2;
+    patch.canonical();
+    Segment s(patch);
+    s.inliers = pixels.size();
+    s.residual = std::sqrt(sq / double(pixels.size()));
+    s.pixels = std::move(pixels);  // in cell order: sorted below
+    std::sort(s.pixels.begin(), s.pixels.end());
+    detail::set_color(s, color);
+    out.push_back(std::move(s));
+  }
+  std::stable_sort(out.begin(), out.end(), [](const Segment& x, const Segment& y) {
+    return x.as<shapes::Patch>().area > y.as<shapes::Patch>().area;
+  });
+  for (std::size_t i = 0; i < out.size(); ++i) out[i].id = int(i);
+  return out;
+}
+
+}  // namespace mereo::features

@@ -1,0 +1,57 @@
+"""The room graph (graphs/room.yaml): furniture on labelled real frames (tests/bench/eval_room.py's
+judgement and labels) and the shipped graph by name in the CLI."""
+import importlib.util
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+
+
+def _eval_room():
+    spec = importlib.util.spec_from_file_location("eval_room", ROOT / "tests" / "bench" / "eval_room.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _judge(ev, name):
+    import mereo
+    from mereo import recognition
+
+    fr = next(f for f in json.loads(ev.LABELS.read_text())["frames"] if f["name"] == name)
+    frame = mereo.io.read(str(ev.REAL / fr["path"]), **fr["read"])
+    result, segments = ev.run(recognition.tabletop_graph(graph="room"), frame)
+    objects = [o for o in result["objects"] if o["accepted"]]
+    matched = ev.match(objects, fr["labels"], segments, np.asarray(frame.depth).shape[:2])
+    return fr["labels"], matched
+
+
+@pytest.mark.parametrize("name,want", [("TUM", {"table": 1, "chair": 2}), ("3DMatch 000", {"sofa": 1}),
+                                       ("pairwise 5", {"chair": 1}), ("SUN", {"door": 1})])
+def test_real_rooms_show_their_labelled_furniture(real, name, want):
+    """TUM: two office chairs (seat and back) and the desk; 3DMatch: the leather sofa (seat and its
+    back's cushions); pcl-pairwise (depth only): the office chair; SUN: the corridor's near door."""
+    labels, matched = _judge(_eval_room(), name)
+    got = {}
+    for o, i, _ in matched:
+        if i is not None and not labels[i].get("optional"):
+            got[o["model"]] = got.get(o["model"], 0) + 1
+    for cls, n in want.items():
+        assert got.get(cls, 0) >= n, f"{name}: {got}"
+
+
+def test_the_room_graph_by_name(real, tmp_path):
+    """`mereo recognize --graph room` runs the shipped room graph: patches, furniture, an overlay."""
+    tum = real / "open3d" / "TUM_depth.png"
+    r = subprocess.run([sys.executable, "-m", "mereo.cli", "recognize", "--graph", "room", str(tum), "--intrinsics",
+                        "525,525,319.5,239.5", "--depth-scale", "5000", "--overlay", str(tmp_path)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    result = json.loads(r.stdout.splitlines()[0])
+    assert {o["model"] for o in result["objects"] if o["accepted"]} >= {"table", "chair"}
+    assert all(p["class"] == "patch" for p in result["primitives"])
+    assert (tmp_path / "TUM_overlay.png").is_file()

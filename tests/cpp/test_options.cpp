@@ -12,6 +12,7 @@
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/edges.hpp"
 #include "mereo/features/primitives.hpp"
+#include "mereo/features/patches.hpp"
 #include "mereo/features/regions.hpp"
 #include "mereo/matching/interpret.hpp"
 #include "mereo/signal/depth_filter.hpp"
@@ -240,6 +241,7 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   const auto specs = nodes::builtin_node_specs();
   expect_node_options_are<features::DetectOptions>(specs, "detect_primitives");
   expect_node_options_are<features::RegionOptions>(specs, "find_regions");
+  expect_node_options_are<features::PatchOptions>(specs, "detect_patches");
   expect_node_options_are<features::EdgePrimitiveOptions>(specs, "detect_edges");
   expect_node_options_are<extension::NormalOptions>(specs, "estimate_normals");
   expect_node_options_are<extension::SupportPlaneOptions>(specs, "support_plane");
@@ -253,7 +255,8 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   // and no other kind has options
   const std::set<std::string> checked{"detect_primitives", "estimate_normals", "support_plane", "filter_depth",
                                       "models",            "match_models",     "interpret",     "report",
-                                      "track_objects",     "odometry",         "find_regions",  "detect_edges"};
+                                      "track_objects",     "odometry",         "find_regions",  "detect_edges",
+                                      "detect_patches"};
   for (const auto& s : specs)
     if (!s.options.empty())
       EXPECT_TRUE(checked.count(s.kind)) << "node kind " << s.kind << " has options but no described options struct in this test";

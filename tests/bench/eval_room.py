@@ -1,9 +1,20 @@
 #!/usr/bin/env python3
 """Furniture on the real room frames of ../shared/data/real (the room graph, graphs/room.yaml),
 judged against the labels a person wrote by looking at each colour image (room_labels.json, beside
-this file: chairs, tables, sofas and doors, a loose box each; far, cut or unclear ones optional).
+this file: chairs, tables, sofas and doors, a loose box each; far, cut or unclear ones optional);
+with --rendered N, on N rendered rooms (SceneOptions(room=True), seeds from --first) against their
+exact ground truth.
 
     python tests/bench/eval_room.py [--out DIR] [--json FILE]
+    python tests/bench/eval_room.py --rendered 50 [--first 9100] [--depth-model stereo]
+
+Rendered rooms: an accepted object is the truth object holding most of its pixels (the truth's
+label image), a true positive when of the same model (each truth object once). Recall counts the
+chairs, tables and doors at least 40% visible (visible pixels over the pixels each would cover
+with nothing in front of it, times the share of its projected box inside the image), precision
+every accepted object. Size errors of the true positives: a table's top and a chair's seat, a door's
+leaf, its longer and shorter side apart, over those at least 90% visible (a seat seen from behind
+shows only its front: its shorter side is short).
 
 Each accepted object is matched to the label of its class whose box holds the largest share of
 its pixels (its parts' patches), at least 50%; a label is matched once. A match on a required
@@ -26,6 +37,25 @@ ROOT = Path(__file__).resolve().parents[2]
 REAL = ROOT.parent / "shared" / "data" / "real"
 LABELS = Path(__file__).with_name("room_labels.json")
 MIN_SHARE = 0.5
+
+
+def room_graph(settings=()):
+    """The shipped room graph with NODE.OPTION=VALUE settings applied."""
+    from mereo import recognition
+
+    g = recognition.tabletop_graph(graph="room")
+    for item in settings:
+        key, value = item.split("=", 1)
+        node, option = key.split(".", 1)
+        try:
+            v = int(value)
+        except ValueError:
+            try:
+                v = float(value)
+            except ValueError:
+                v = value
+        g.set_options(node, **{option: v})
+    return g
 
 
 def run(graph, frame):
@@ -91,20 +121,146 @@ def overlay(frame, result: dict, labels: list[dict], path: Path) -> None:
     img.save(path)
 
 
+FURNITURE = ("chair", "table", "door")
+SIZED_PART = {"table": "top", "chair": "seat", "door": "leaf"}
+
+
+def true_sizes(model: str, part: dict) -> tuple[float, float]:
+    """The (longer, shorter) side of a truth part's face: a box's two largest extents."""
+    a, b = sorted(part["world"]["size"], reverse=True)[:2]
+    return a, b
+
+
+def found_sizes(obj: dict) -> tuple[float, float] | None:
+    p = obj["parts"].get(SIZED_PART[obj["model"]])
+    return None if p is None else (max(p["size_u"], p["size_v"]), min(p["size_u"], p["size_v"]))
+
+
+def in_view(obj: dict, intrinsics: dict) -> float:
+    """The share of an object's projected box (its parts' corners in the camera frame) inside the
+    image: what the image border cuts off is hidden too."""
+    corners = []
+    for p in obj["parts"]:
+        c = p["camera"]
+        if "size" not in c or "axis2" not in c:
+            continue
+        a, b = np.asarray(c["axis"]), np.asarray(c["axis2"])
+        e = np.stack([b, np.cross(a, b), a])  # local x, y, z
+        half = np.asarray(c["size"]) / 2
+        signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+        corners.append(np.asarray(c["center"]) + (signs * half) @ e)
+    if not corners:
+        return 1.0
+    pts = np.concatenate(corners)
+    pts = pts[pts[:, 2] > 0.05]
+    if len(pts) == 0:
+        return 0.0
+    u = intrinsics["fx"] * pts[:, 0] / pts[:, 2] + intrinsics["cx"]
+    v = intrinsics["fy"] * pts[:, 1] / pts[:, 2] + intrinsics["cy"]
+    u0, u1, v0, v1 = u.min(), u.max(), v.min(), v.max()
+    area = max(1e-9, (u1 - u0) * (v1 - v0))
+    iw = max(0.0, min(u1, intrinsics["width"]) - max(u0, 0.0))
+    ih = max(0.0, min(v1, intrinsics["height"]) - max(v0, 0.0))
+    return iw * ih / area
+
+
+def rendered(args) -> int:
+    import mereo
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    graph = room_graph(args.set)
+    so = mereo.synthetic.SceneOptions(room=True, depth_model=args.depth_model)
+    tp = {c: 0 for c in FURNITURE}
+    need = {c: 0 for c in FURNITURE}
+    accepted = {c: 0 for c in FURNITURE}
+    errors = {c: [] for c in FURNITURE}
+    door_kinds = {}
+    times = []
+    for seed in range(args.first, args.first + args.rendered):
+        sf = mereo.synthetic.render(seed, so)
+        truth = json.loads(sf.truth_json())
+        by_id = {o["id"]: o for o in truth["objects"]}
+        t0 = time.perf_counter()
+        result, segments = run(graph, sf.frame)
+        times.append(1000 * (time.perf_counter() - t0))
+        ids = np.asarray(sf.truth.objects)
+        shape = ids.shape
+        matched, line = {}, []
+        for o in [o for o in result["objects"] if o["accepted"]]:
+            m = object_mask(o, segments, shape)
+            accepted[o["model"]] = accepted.get(o["model"], 0) + 1
+            hit = ids[m]
+            hit = hit[hit > 0]
+            tid = int(np.bincount(hit).argmax()) if hit.size else 0
+            t = by_id.get(tid)
+            ok = t is not None and t["model"] == o["model"] and tid not in matched
+            if ok:
+                matched[tid] = o
+            line.append(f"{o['model']}{'' if ok else ' (false: on ' + (t['model'] if t else 'nothing') + ')'}")
+        for t in truth["objects"]:
+            if t["model"] not in FURNITURE:
+                continue
+            share = t["visible_pixels"] / max(1, t.get("unoccluded_pixels", t["visible_pixels"]))
+            share *= in_view(t, truth["intrinsics"])
+            if t["model"] == "door":
+                door_kinds.setdefault(t.get("kind", ""), [0, 0])
+            if share < 0.4 or t["visible_pixels"] == 0:
+                continue
+            need[t["model"]] += 1
+            if t["model"] == "door":
+                door_kinds[t.get("kind", "")][1] += 1
+            o = matched.get(t["id"])
+            if o is None:
+                line.append(f"missed {t['model']}{' ' + t.get('kind', '') if t['model'] == 'door' else ''} ({100 * share:.0f}%)")
+                continue
+            tp[t["model"]] += 1
+            if t["model"] == "door":
+                door_kinds[t.get("kind", "")][0] += 1
+            part = next(p for p in t["parts"] if p["role"] == SIZED_PART[t["model"]])
+            got = found_sizes(o)
+            if got is not None and share >= 0.9:
+                want = true_sizes(t["model"], part)
+                errors[t["model"]].append((abs(got[0] - want[0]), abs(got[1] - want[1])))
+        print(f"room {seed}: {', '.join(line) or 'nothing'}")
+        overlay(sf.frame, result, [], out / f"room_{seed}.png")
+    print()
+    for c in FURNITURE:
+        prec = tp[c] / max(1, accepted[c])
+        e = np.asarray(errors[c]).reshape(-1, 2)
+        err = (f", size errors over {len(e)} at least 90% visible, longer / shorter side: median "
+               f"{100 * np.median(e[:, 0]):.1f} / {100 * np.median(e[:, 1]):.1f} cm, "
+               f"max {100 * e[:, 0].max():.1f} / {100 * e[:, 1].max():.1f} cm") if len(e) else ""
+        print(f"{c:6s} recall {tp[c]}/{need[c]} = {tp[c] / max(1, need[c]):.2f}, precision {tp[c]}/{accepted[c]} = {prec:.2f}{err}")
+    for k, (a, b) in sorted(door_kinds.items()):
+        print(f"doors {k}: {a}/{b}")
+    print(f"ms per frame (graph run, median): {np.median(times):.0f}; overlays in {out}")
+    if args.json:
+        Path(args.json).write_text(json.dumps({"tp": tp, "need": need, "accepted": accepted,
+                                               "size_errors": errors, "median_ms": float(np.median(times))}))
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="eval_room", help="overlays folder")
     ap.add_argument("--json", help="write the figures here")
+    ap.add_argument("--rendered", type=int, default=0, help="judge N rendered rooms instead of the real frames")
+    ap.add_argument("--first", type=int, default=9100, help="the first rendered room's seed")
+    ap.add_argument("--depth-model", default="kinect", choices=["kinect", "stereo"])
+    ap.add_argument("--set", action="append", default=[], metavar="NODE.OPTION=VALUE",
+                    help="a node option of the room graph (e.g. patches.max_angle_deg=30), for sweeps")
     args = ap.parse_args(argv)
+    if args.rendered:
+        return rendered(args)
     if not REAL.is_dir():
         print(f"eval_room: {REAL} is missing (the shared data beside the clone); nothing to judge")
         return 0
     import mereo
-    from mereo import recognition
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    graph = recognition.tabletop_graph(graph="room")
+    graph = room_graph(args.set)
     frames = json.loads(LABELS.read_text())["frames"]
     classes = ["chair", "table", "sofa", "door"]
     tp = {c: 0 for c in classes}

@@ -55,3 +55,21 @@ def test_the_room_graph_by_name(real, tmp_path):
     assert {o["model"] for o in result["objects"] if o["accepted"]} >= {"table", "chair"}
     assert all(p["class"] == "patch" for p in result["primitives"])
     assert (tmp_path / "TUM_overlay.png").is_file()
+
+
+def test_a_rendered_room_is_judged_against_its_truth(tmp_path):
+    """Rendered rooms (SceneOptions(room=True)) carry furniture ground truth with the hidden share
+    of each object; the room graph finds the table of a room and the chairs it reports are chairs
+    (tests/bench/eval_room.py --rendered, on two tuning rooms)."""
+    ev = _eval_room()
+    out = tmp_path / "judged.json"
+    assert ev.main(["--rendered", "2", "--first", "9101", "--out", str(tmp_path), "--json", str(out)]) == 0
+    figures = json.loads(out.read_text())
+    assert figures["need"]["table"] == 2 and figures["tp"]["table"] == 2, figures
+    assert figures["tp"]["chair"] >= 2 and figures["accepted"]["chair"] == figures["tp"]["chair"], figures
+    import mereo
+
+    sf = mereo.synthetic.render(9101, mereo.synthetic.SceneOptions(room=True))
+    truth = json.loads(sf.truth_json())
+    chairs = [o for o in truth["objects"] if o["model"] == "chair"]
+    assert chairs and all(0 < o["visible_pixels"] <= o["unoccluded_pixels"] for o in chairs)

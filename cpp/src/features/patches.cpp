@@ -93,7 +93,18 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   // (starting from n0 through c0), refitting it as the region doubles.
   std::vector<int> queue;
   std::vector<std::uint8_t> seen(std::size_t(cells), 0);
-  const auto grow = [&](int seed, Eigen::Vector3d n, Eigen::Vector3d c, PlaneSums& sums) {
+  // With gravity, level surfaces (seats, table tops, the floor) are grown first about the plane
+  // normal to up through their points' mean height: their normals are the worst of a frame (seen
+  // at grazing angles, small, their depth in steps), but their heights are measured well (a depth
+  // error along the ray moves a point up only by its share of up), and their normals need only
+  // lean towards up (not a back, a wall or a door).
+  const Eigen::Vector3d upn = up ? Eigen::Vector3d(up->normalized()) : Eigen::Vector3d::Zero();
+  const double cos_level = std::cos(o.level_deg * detail::kDeg), cos_seed = std::cos(0.5 * o.level_deg * detail::kDeg);
+  const auto on_plane = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& n, const Eigen::Vector3d& c, bool level) {
+    const double t = level ? tol(x.z()) * std::max(0.25, std::abs(upn.dot(x.normalized()))) : tol(x.z());
+    return std::abs(n.dot(x - c)) <= t;
+  };
+  const auto grow = [&](int seed, Eigen::Vector3d n, Eigen::Vector3d c, PlaneSums& sums, bool level) {
     queue.assign(1, seed);
     seen[std::size_t(seed)] = 1;
     sums = PlaneSums{};
@@ -103,16 +114,20 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       const int k = queue[h];
       const Eigen::Vector3d pk = g.p(k);
       sums.add(pk);
-      if (sums.n >= next_fit) n = sums.normal(n), c = sums.centroid(), next_fit *= 2;
+      if (sums.n >= next_fit) n = level ? n : sums.normal(n), c = sums.centroid(), next_fit *= 2;
+      // 8-neighbours and the cells two away along the axes: the growth steps over the small
+      // holes that depth leaves on surfaces seen at grazing angles (a table top from 3 m)
       const int gu = k % g.gw, gv = k / g.gw;
-      const int nb[4][2] = {{gu - 1, gv}, {gu + 1, gv}, {gu, gv - 1}, {gu, gv + 1}};
+      const int nb[12][2] = {{gu - 1, gv},     {gu + 1, gv},     {gu, gv - 1},     {gu, gv + 1},
+                             {gu - 1, gv - 1}, {gu + 1, gv - 1}, {gu - 1, gv + 1}, {gu + 1, gv + 1},
+                             {gu - 2, gv},     {gu + 2, gv},     {gu, gv - 2},     {gu, gv + 2}};
       for (const auto& q : nb) {
         if (q[0] < 0 || q[0] >= g.gw || q[1] < 0 || q[1] >= g.gh) continue;
         const int j = q[1] * g.gw + q[0];
         if (seen[std::size_t(j)] || !valid[std::size_t(j)] || label[std::size_t(j)] >= 0) continue;
         const Eigen::Vector3d pj = g.p(j);
         if (std::abs(pj.z() - pk.z()) > o.depth_jump * pk.z()) continue;
-        if (std::abs(n.dot(pj - c)) > tol(pj.z()) || g.n(j).dot(n) < cos_max) continue;
+        if (!on_plane(pj, n, c, level) || g.n(j).dot(n) < (level ? cos_level : cos_max)) continue;
         seen[std::size_t(j)] = 1;
         queue.push_back(j);
       }
@@ -143,24 +158,27 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   std::stable_sort(seeds.begin(), seeds.end());
   std::vector<Segment> out;
   std::vector<std::uint8_t> tried(std::size_t(cells), 0);
+  for (const bool level : {true, false})
   for (const auto& [flatness, seed] : seeds) {
     if (label[std::size_t(seed)] >= 0 || tried[std::size_t(seed)]) continue;
-    // grown twice: from the seed's normal, then from the plane that gathered (a noisy seed normal
-    // stops the first growth early)
+    if (level && (!up || !(o.level_deg > 0) || g.n(seed).dot(upn) < cos_seed)) continue;
+    // grown twice: from the seed's normal (up for a level one), then from the plane that gathered
+    // (a noisy seed normal stops the first growth early)
     PlaneSums sums;
-    std::vector<int> region = grow(seed, g.n(seed), g.p(seed), sums);
+    const Eigen::Vector3d n0 = level ? upn : g.n(seed);
+    std::vector<int> region = grow(seed, n0, g.p(seed), sums, level);
     if (int(region.size()) < min_cells) {
-      for (int k : region) tried[std::size_t(k)] = 1;  // none of them starts a larger one
+      if (!level) for (int k : region) tried[std::size_t(k)] = 1;  // none of them starts a larger one
       continue;
     }
-    const Eigen::Vector3d n1 = sums.normal(g.n(seed)), c1 = sums.centroid();
-    region = grow(seed, n1, c1, sums);
+    const Eigen::Vector3d n1 = level ? upn : sums.normal(g.n(seed)), c1 = sums.centroid();
+    region = grow(seed, n1, c1, sums, level);
     if (int(region.size()) < min_cells) continue;
     const int id = int(out.size());
     for (int k : region) label[std::size_t(k)] = id;
 
     shapes::Patch patch;
-    patch.normal = sums.normal(n1);
+    patch.normal = level ? upn : sums.normal(n1);
     const Eigen::Vector3d c = sums.centroid();
     // every pixel of the region's blocks on its plane; the seen area
     std::vector<int> pixels;
@@ -175,7 +193,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
           if (taken[std::size_t(i)] || !valid_point(q)) continue;
           const Eigen::Vector3d x(q[0], q[1], q[2]);
           const double dist = patch.normal.dot(x - c);
-          if (std::abs(dist) > tol(x.z())) continue;
+          if (!on_plane(x, patch.normal, c, level)) continue;
           taken[std::size_t(i)] = 1;
           pixels.push_back(i);
           sq += dist * dist;
@@ -185,6 +203,12 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
         }
     }
     if (int(pixels.size()) < o.min_pixels || area < o.min_area) continue;
+    {
+      std::vector<double> z;
+      z.reserve(pixels.size());
+      for (int i : pixels) z.push_back(cloud.data()[3 * std::size_t(i) + 2]);
+      if (detail::quantile(z, 0.5) > o.max_depth) continue;
+    }
     // the rectangle: upright patches along gravity, the others along their points' main direction
     std::vector<Eigen::Vector3d> pts;
     pts.reserve(pixels.size());

@@ -364,6 +364,21 @@ bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tm
   return found;
 }
 
+std::vector<std::uint32_t> objects_hit(const RenderScene& rs, const Vec3& o, const Vec3& d) {
+  std::vector<std::uint32_t> out;
+  Hit h;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const RenderObject& ro : rs.objects) {
+    if (!ray_hits_sphere(ro.bound, o, d, 0.0, inf)) continue;
+    for (int k = ro.first; k < ro.first + ro.count; ++k)
+      if (intersect(rs.prims[k], o, d, 0.0, inf, h)) {
+        out.push_back(rs.prims[k].object);
+        break;
+      }
+  }
+  return out;
+}
+
 bool cast_any(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax) {
   Hit h;
   for (const RenderObject& ro : rs.objects) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -187,6 +188,20 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
       }
     }
   });
+  // rooms: the pixels each object would cover alone (its share hidden by what stands in front)
+  if (scene.room) {
+    std::vector<std::size_t> alone(gt.objects_truth.size() + 1, 0);
+    std::mutex m;
+    tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+      std::vector<std::size_t> local(alone.size(), 0);
+      for (int v = rows.begin(); v < rows.end(); ++v)
+        for (int u = 0; u < W; ++u)
+          for (std::uint32_t id : objects_hit(rs, Vec3::Zero(), ray_dir(u, v))) ++local[id];
+      const std::lock_guard<std::mutex> lock(m);
+      for (std::size_t k = 0; k < alone.size(); ++k) alone[k] += local[k];
+    });
+    for (auto& o : gt.objects_truth) o.unoccluded_pixels = alone[o.id];
+  }
 
   // ---- visible pixel counts ----
   {

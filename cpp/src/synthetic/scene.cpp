@@ -26,6 +26,7 @@
 
 #include "mereo/core/error.hpp"
 #include "raycast.hpp"
+#include "scene_build.hpp"
 #include "shapes/json.hpp"
 
 namespace mereo::synthetic {
@@ -88,7 +89,65 @@ Pose orbit_pose(const Eigen::Vector3d& look_at, double distance, double elevatio
   return T;
 }
 
+namespace detail {
+
+Shape box(const Vec3& centre, double yaw, const Vec3& size) {
+  Shape s;
+  s.cls = "box";
+  s.point = centre;
+  s.axis = Vec3::UnitZ();
+  s.axis2 = Vec3(std::cos(yaw), std::sin(yaw), 0.0);
+  s.size = size;
+  return s;
+}
+
+Shape plane(const Vec3& point, const Vec3& normal) {
+  Shape s;
+  s.cls = "plane";
+  s.point = point;
+  s.axis = normal.normalized();
+  return s;
+}
+
+Eigen::Vector3f random_color(Rng& rng) {
+  // a saturated-ish random colour: random hue, saturation 0.35-0.9, value 0.35-0.95
+  const double h = rng.uniform(0.0, 6.0), s = rng.uniform(0.35, 0.9), v = rng.uniform(0.35, 0.95);
+  const int i = std::min(5, int(h));
+  const double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  double r = v, g = t, b = p;
+  switch (i) {
+    case 0: r = v; g = t; b = p; break;
+    case 1: r = q; g = v; b = p; break;
+    case 2: r = p; g = v; b = t; break;
+    case 3: r = p; g = q; b = v; break;
+    case 4: r = t; g = p; b = v; break;
+    default: r = v; g = p; b = q; break;
+  }
+  return Eigen::Vector3f(float(r), float(g), float(b));
+}
+
+/// A rotation: yaw about z, then pitch about y, then roll about x (each of the local frame).
+Eigen::Matrix3d rotation(double yaw, double pitch, double roll) {
+  return (Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
+          Eigen::AngleAxisd(roll, Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+Shape oriented(const std::string& cls, const Vec3& centre, const Eigen::Matrix3d& R, const Vec3& size) {
+  Shape s;
+  s.cls = cls;
+  s.point = centre;
+  s.axis = R.col(2);
+  s.axis2 = R.col(0);
+  s.size = size;
+  return s;
+}
+
+}  // namespace detail
+
 namespace {
+
+using namespace detail;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -126,40 +185,8 @@ Shape disc(double x, double y, double z, double r_out, double r_in = 0.0, bool d
   return s;
 }
 
-Shape box(const Vec3& centre, double yaw, const Vec3& size) {
-  Shape s;
-  s.cls = "box";
-  s.point = centre;
-  s.axis = Vec3::UnitZ();
-  s.axis2 = Vec3(std::cos(yaw), std::sin(yaw), 0.0);
-  s.size = size;
-  return s;
-}
 
-Shape plane(const Vec3& point, const Vec3& normal) {
-  Shape s;
-  s.cls = "plane";
-  s.point = point;
-  s.axis = normal.normalized();
-  return s;
-}
 
-Eigen::Vector3f random_color(Rng& rng) {
-  // a saturated-ish random colour: random hue, saturation 0.35-0.9, value 0.35-0.95
-  const double h = rng.uniform(0.0, 6.0), s = rng.uniform(0.35, 0.9), v = rng.uniform(0.35, 0.95);
-  const int i = std::min(5, int(h));
-  const double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
-  double r = v, g = t, b = p;
-  switch (i) {
-    case 0: r = v; g = t; b = p; break;
-    case 1: r = q; g = v; b = p; break;
-    case 2: r = p; g = v; b = t; break;
-    case 3: r = p; g = q; b = v; break;
-    case 4: r = t; g = p; b = v; break;
-    default: r = v; g = p; b = q; break;
-  }
-  return Eigen::Vector3f(float(r), float(g), float(b));
-}
 
 struct Footprint {
   double x, y, r;
@@ -498,22 +525,7 @@ bool add_lying_container(Scene& scene, Placer& placer, Rng& rng) {
   return true;
 }
 
-/// A rotation: yaw about z, then pitch about y, then roll about x (each of the local frame).
-Eigen::Matrix3d rotation(double yaw, double pitch, double roll) {
-  return (Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
-          Eigen::AngleAxisd(roll, Vec3::UnitX()))
-      .toRotationMatrix();
-}
 
-Shape oriented(const std::string& cls, const Vec3& centre, const Eigen::Matrix3d& R, const Vec3& size) {
-  Shape s;
-  s.cls = cls;
-  s.point = centre;
-  s.axis = R.col(2);
-  s.axis2 = R.col(0);
-  s.size = size;
-  return s;
-}
 
 /// The lowest point's height of an ellipsoid or a box (full extents `size` along R's columns).
 double lowest(const Vec3& centre, const Eigen::Matrix3d& R, const Vec3& size, bool ellipsoid) {
@@ -712,6 +724,7 @@ void check_options(const SceneOptions& o) {
 
 Scene generate_scene(std::uint64_t seed, const SceneOptions& options) {
   check_options(options);
+  if (options.room) return generate_room(seed, options);
   Rng rng(seed);
   Scene scene;
   scene.seed = seed;
@@ -879,6 +892,7 @@ std::string truth_to_json(const SyntheticFrame& f) {
     json jo = {{"id", o.id}, {"model", o.model}, {"visible_pixels", o.visible_pixels}};
     if (!o.pose.empty()) jo["pose"] = o.pose;
     if (!o.kind.empty()) jo["kind"] = o.kind;
+    if (o.unoccluded_pixels > 0) jo["unoccluded_pixels"] = o.unoccluded_pixels;
     if (o.visible_pixels > 0) jo["visible_box"] = {{"min", vec_json(o.visible_min)}, {"max", vec_json(o.visible_max)}};
     json parts = json::array();
     for (const auto& p : o.parts) {

@@ -22,6 +22,7 @@ class SceneOptions:
         handle_shapes (str, default torus, one of torus varied): mug handles: torus arcs, or also D-shaped, squared and flat-band ones
         lying_containers (bool, default false): one or two cans or jars lying on their side join the objects
         freeform_distractors (bool, default false): blobs, bananas, drills and rounded boxes join the objects (model 'other')
+        room (bool, default false): a room with furniture (tables, chairs, a door, a cabinet) instead of a tabletop
         min_objects (int, default 3, 0..50): objects on the table (besides distractors), at least
         max_objects (int, default 6, 0..50): objects on the table (besides distractors), at most
         min_distance (float, default 0.6, 0.05..20): camera distance to the table centre, metres, at least
@@ -164,6 +165,14 @@ class SceneOptions:
         """
     @orbit_step_deg.setter
     def orbit_step_deg(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def room(self) -> bool:
+        """
+        a room with furniture (tables, chairs, a door, a cabinet) instead of a tabletop
+        """
+    @room.setter
+    def room(self, arg1: typing.Any) -> None:
         ...
     @property
     def stereo_baseline(self) -> float:

@@ -11,6 +11,8 @@
 //   stereo   the same scenes with the active-stereo depth model
 //   real     the real tabletop frames of ../shared/data/real (nv-6dof-graspnet, posecnn,
 //            pcl-mosd, the PCL mug); skipped with a message when that folder is absent
+//   room     rendered rooms (SceneOptions::room, seeds 9300-9319), for graphs/room.yaml
+//   room_real  the real rooms: nvblox-3dmatch's seq-01, pcl-pairwise and PCL's office1
 // The last line is one JSON object.
 //
 // --growth: how the cost grows instead, on rendered Kinect-like scenes (seeds 600-609): against
@@ -22,7 +24,8 @@
 //   bench_pipeline            every set, 60 frames each, K = 4
 //   bench_pipeline --quick    4 frames of each set (ctest)
 //   bench_pipeline --growth   the growth tables (20 frames per point)
-//   options: --frames N, --in-flight K, --graph FILE, --set kinect|stereo|real (repeatable)
+//   options: --frames N, --in-flight K, --graph FILE, --set kinect|stereo|real|room|room_real
+//   (repeatable); the room graph: --graph graphs/room.yaml --set room --set room_real
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -60,10 +63,22 @@ std::vector<Frame> load_set(const std::string& name, std::size_t distinct) {
     for (std::size_t s = 0; s < distinct; ++s) pool.push_back(synthetic::render(500 + s, so).frame);
     return pool;
   }
+  if (name == "room") {  // rendered rooms (Kinect-like), for the room graph
+    synthetic::SceneOptions so;
+    so.room = true;
+    for (std::size_t s = 0; s < distinct; ++s) pool.push_back(synthetic::render(9300 + s, so).frame);
+    return pool;
+  }
   const std::filesystem::path real = MEREO_REAL_DATA;
   if (!std::filesystem::is_directory(real)) {
     std::printf("set real: skipped (%s not found: the real frames sit beside a clone of the repository)\n\n",
                 real.c_str());
+    return pool;
+  }
+  if (name == "room_real") {  // real rooms: 3DMatch (its layout names the camera), pcl-pairwise, office1
+    for (const auto& seq : {io::open({(real / "nvblox-3dmatch" / "seq-01").string()}),
+                            io::open({(real / "pcl-pairwise").string(), (real / "pcl" / "office1.pcd").string()})})
+      for (std::size_t i = 0; i < seq.size(); ++i) pool.push_back(seq.load(i));
     return pool;
   }
   io::ReadOptions posecnn;  // PoseCNN's camera (its SOURCE.md), depth in 0.1 mm
@@ -245,8 +260,8 @@ int main(int argc, char** argv) {
 
   std::vector<SetFigures> figs;
   for (const auto& name : sets) {
-    if (name != "kinect" && name != "stereo" && name != "real") {
-      std::fprintf(stderr, "bench_pipeline: unknown set %s (kinect, stereo or real)\n", name.c_str());
+    if (name != "kinect" && name != "stereo" && name != "real" && name != "room" && name != "room_real") {
+      std::fprintf(stderr, "bench_pipeline: unknown set %s (kinect, stereo, real, room or room_real)\n", name.c_str());
       return 2;
     }
     auto pool = load_set(name, distinct);

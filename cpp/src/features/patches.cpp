@@ -92,6 +92,25 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   // Grows the free cells connected to `seed` that lie on the plane of those gathered so far
   // (starting from n0 through c0), refitting it as the region doubles.
   std::vector<int> queue;
+  // each cell's mean colour over its block (RGB in [0, 1]), where a colour image is given: growth
+  // does not cross a colour edge (a door in its wall, a seat's cushion on its frame)
+  const bool by_colour = color && !color->empty() && o.colour_edge > 0;
+  std::vector<Eigen::Vector3f> cell_colour(by_colour ? std::size_t(cells) : 0);
+  if (by_colour)
+    for (int k = 0; k < cells; ++k) {
+      const int u0 = (k % g.gw) * o.step, v0 = (k / g.gw) * o.step;
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      int count = 0;
+      for (int v = v0; v < std::min(cloud.rows(), v0 + o.step); ++v)
+        for (int u = u0; u < std::min(cloud.cols(), u0 + o.step); ++u, ++count) {
+          const std::uint8_t* c = color->ptr(v, u);
+          sum += Eigen::Vector3f(c[0], c[1], c[2]) / 255.f;
+        }
+      cell_colour[std::size_t(k)] = sum / float(std::max(1, count));
+    }
+  const auto colour_edge = [&](int a, int b) {
+    return by_colour && (cell_colour[std::size_t(a)] - cell_colour[std::size_t(b)]).norm() > o.colour_edge;
+  };
   std::vector<std::uint8_t> seen(std::size_t(cells), 0);
   // With gravity, level surfaces (seats, table tops, the floor) are grown first about the plane
   // normal to up through their points' mean height: their normals are the worst of a frame (seen
@@ -126,7 +145,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
         const int j = q[1] * g.gw + q[0];
         if (seen[std::size_t(j)] || !valid[std::size_t(j)] || label[std::size_t(j)] >= 0) continue;
         const Eigen::Vector3d pj = g.p(j);
-        if (std::abs(pj.z() - pk.z()) > o.depth_jump * pk.z()) continue;
+        if (std::abs(pj.z() - pk.z()) > o.depth_jump * pk.z() || colour_edge(k, j)) continue;
         if (!on_plane(pj, n, c, level) || g.n(j).dot(n) < (level ? cos_level : cos_max)) continue;
         seen[std::size_t(j)] = 1;
         queue.push_back(j);

@@ -32,6 +32,10 @@ struct PatchOptions {
   /// tables and seven more false ones (blinds' slats and drawers at seat height); on rendered
   /// Kinect-like rooms, whose seats' normals are the worst, it finds more seats.
   double level_deg = 0.0;
+  /// With a colour image, growth does not cross between neighbouring cells whose mean colours
+  /// differ by more than this (RGB in [0, 1], Euclidean): a door in the plane of its wall (rendered
+  /// rooms 9100-9119: doors 5/20 -> 6/20; the real room frames: unchanged). 0: off.
+  double colour_edge = 0.15;
   /// Patches whose points are mostly farther than this (metres, along the optical axis) are
   /// none: beyond it a depth camera's surfaces break into pieces whose sizes mean little.
   double max_depth = 6.0;
@@ -50,6 +54,7 @@ inline const Fields<PatchOptions>& PatchOptions::fields() {
       field("min_pixels", &O::min_pixels, 1, 1e7, "fewest pixels of a patch"),
       field("upright_deg", &O::upright_deg, 0, 90, "with gravity: patches this close to upright get a horizontal u_axis"),
       field("max_depth", &O::max_depth, 0.1, 100, "patches whose median depth is beyond this are none, metres"),
+      field("colour_edge", &O::colour_edge, 0, 2, "with colour: growth does not cross a colour step larger than this (0: off)"),
       field("level_deg", &O::level_deg, 0, 90, "with gravity: level patches take cells whose normals lean at most this from up"),
   };
   return f;

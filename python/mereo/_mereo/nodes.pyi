@@ -270,6 +270,7 @@ def track_objects(**kwargs) -> mereo._mereo.NodeTemplate:
         tracks (Tracks): the live tracks, by id
     Options:
         max_distance (float, default 0.03, 0.001..1): association: body centres, metres
+        max_radius_difference (float, default 0.01, 0.0001..10): association: body sizes (a radius; a patch's half length), metres
         part_tolerance (float, default 0.01, 0.001..1): a part stays put relative to its body
         visible_pixels (float, default 300, 1..1e+06): a missing part this large in the image (pixels, where the frame's depth shows its place) is a full contradiction
         max_handle_turn_deg (float, default 25, 0..90): the last views around a handle fitted together: a ring turned further from the body's axis is no handle

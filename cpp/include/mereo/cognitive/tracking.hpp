@@ -89,6 +89,8 @@ inline const Fields<TrackOptions>& TrackOptions::fields() {
   using O = TrackOptions;
   static const Fields<O> head = {
       field("max_distance", &O::max_distance, 0.001, 1, "association: body centres, metres"),
+      field("max_radius_difference", &O::max_radius_difference, 0.0001, 10,
+            "association: body sizes (a radius; a patch's half length), metres"),
       field("part_tolerance", &O::part_tolerance, 0.001, 1, "a part stays put relative to its body"),
       field("visible_pixels", &O::visible_pixels, 1, 1e6,
             "a missing part this large in the image (pixels, where the frame's depth shows its place) is a full "

@@ -89,9 +89,6 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   std::vector<std::uint8_t> valid(static_cast<std::size_t>(cells));
   for (int k = 0; k < cells; ++k) valid[std::size_t(k)] = g.valid(k);
 
-  // Grows the free cells connected to `seed` that lie on the plane of those gathered so far
-  // (starting from n0 through c0), refitting it as the region doubles.
-  std::vector<int> queue;
   // each cell's mean colour over its block (RGB in [0, 1]), where a colour image is given: growth
   // does not cross a colour edge (a door in its wall, a seat's cushion on its frame)
   const bool by_colour = color && !color->empty() && o.colour_edge > 0;
@@ -111,18 +108,21 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   const auto colour_edge = [&](int a, int b) {
     return by_colour && (cell_colour[std::size_t(a)] - cell_colour[std::size_t(b)]).norm() > o.colour_edge;
   };
-  std::vector<std::uint8_t> seen(std::size_t(cells), 0);
-  // With gravity, level surfaces (seats, table tops, the floor) are grown first about the plane
-  // normal to up through their points' mean height: their normals are the worst of a frame (seen
-  // at grazing angles, small, their depth in steps), but their heights are measured well (a depth
-  // error along the ray moves a point up only by its share of up), and their normals need only
-  // lean towards up (not a back, a wall or a door).
+  // With gravity and level_deg, level surfaces (seats, table tops, the floor) are grown first,
+  // about the plane normal to up through their points' mean height: their normals are the worst
+  // of a frame (seen at grazing angles, small, their depth in steps), but their heights are
+  // measured well (a depth error along the ray moves a point up only by its share of up), and
+  // their normals need only lean towards up (not a back, a wall or a door).
   const Eigen::Vector3d upn = up ? Eigen::Vector3d(up->normalized()) : Eigen::Vector3d::Zero();
   const double cos_level = std::cos(o.level_deg * detail::kDeg), cos_seed = std::cos(0.5 * o.level_deg * detail::kDeg);
   const auto on_plane = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& n, const Eigen::Vector3d& c, bool level) {
     const double t = level ? tol(x.z()) * std::max(0.25, std::abs(upn.dot(x.normalized()))) : tol(x.z());
     return std::abs(n.dot(x - c)) <= t;
   };
+  // Grows the free cells connected to `seed` that lie on the plane of those gathered so far
+  // (starting from n through c; a level one's normal stays up), refitting it as the region doubles.
+  std::vector<int> queue;
+  std::vector<std::uint8_t> seen(std::size_t(cells), 0);
   const auto grow = [&](int seed, Eigen::Vector3d n, Eigen::Vector3d c, PlaneSums& sums, bool level) {
     queue.assign(1, seed);
     seen[std::size_t(seed)] = 1;

@@ -69,8 +69,9 @@ def goal_options(goal: str | None, models_file: str = "") -> dict:
 def tabletop_graph(models: Sequence[str] | str | None = None, *, goal: str | None = None,
                    models_file: str = "", graph: str | Path | None = None, tracking: bool = False,
                    odometry: bool = False) -> Graph:
-    """The tabletop pipeline (or the graph file `graph`, or a shipped graph by name: "room"), with the models to look for (names of
-    concepts; default all the file's) and an optional goal that restricts them and drives the
+    """The tabletop pipeline (or the graph file `graph`, or a shipped graph by name: "room"), with
+    the models to look for (names of concepts; default all the file's) and an optional goal that
+    restricts them and drives the
     top-down search (``goal="mug"``: the models become ["mug"], primitives the mug's classes).
     With `tracking`, the pipeline of ``tabletop_tracking.yaml``: hypotheses held across the
     frames of a sequence (the frames' poses; with `odometry`, ``tabletop_odometry.yaml``: poses

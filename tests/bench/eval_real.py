@@ -130,14 +130,25 @@ def match_posecnn(result: dict, labels: SegmentPixels, truth: list[dict]):
 
 
 def overlay(frame, result: dict, boxes: list[dict], path: Path) -> None:
+    """The result drawn over the frame, with the label boxes in grey (dashed: "optional" ones)."""
     import mereo
     from PIL import Image, ImageDraw
 
     img = Image.fromarray(mereo.recognition.draw_result(frame, result))
     d = ImageDraw.Draw(img)
+    grey = (160, 160, 160)
     for t in boxes:
-        d.rectangle(t["box"], outline=(160, 160, 160))
-        d.text((t["box"][0] + 2, t["box"][3] - 12), t["class"], fill=(200, 200, 200))
+        x0, y0, x1, y1 = t["box"]
+        if t.get("optional"):
+            for x in range(x0, x1, 8):
+                d.line([(x, y0), (min(x + 4, x1), y0)], fill=grey)
+                d.line([(x, y1), (min(x + 4, x1), y1)], fill=grey)
+            for y in range(y0, y1, 8):
+                d.line([(x0, y), (x0, min(y + 4, y1))], fill=grey)
+                d.line([(x1, y), (x1, min(y + 4, y1))], fill=grey)
+        else:
+            d.rectangle(t["box"], outline=grey)
+        d.text((x0 + 2, y1 - 12), t["class"], fill=(200, 200, 200))
     img.save(path)
 
 

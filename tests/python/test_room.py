@@ -20,11 +20,10 @@ def _eval_room():
 
 def _judge(ev, name):
     import mereo
-    from mereo import recognition
 
     fr = next(f for f in json.loads(ev.LABELS.read_text())["frames"] if f["name"] == name)
     frame = mereo.io.read(str(ev.REAL / fr["path"]), **fr["read"])
-    result, segments = ev.run(recognition.tabletop_graph(graph="room"), frame)
+    result, segments = ev.run(ev.room_graph(), frame)
     objects = [o for o in result["objects"] if o["accepted"]]
     matched = ev.match(objects, fr["labels"], segments, np.asarray(frame.depth).shape[:2])
     return fr["labels"], matched

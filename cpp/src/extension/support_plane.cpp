@@ -530,7 +530,8 @@ SupportPlane find_support_plane(const Cloud& cloud, const NormalMap& normals,
     // the higher of two stepped planes must itself be large enough to be a support, whichever
     // of them came first (a box's top in front of the table is not)
     const Candidate* higher = chosen && c.d < chosen->d ? &c : chosen;
-    const Candidate* preferred = o.prefer == SupportPlaneOptions::Prefer::Highest ? higher : higher == &c ? chosen : &c;
+    const Candidate* lower = higher == &c ? chosen : &c;
+    const Candidate* preferred = o.prefer == SupportPlaneOptions::Prefer::Highest ? higher : lower;
     const bool by_height = parallel && stepped && preferred->area >= o.min_area;
     if (!chosen || (by_height ? preferred == &c : c.weight > chosen->weight)) chosen = &c;
   }

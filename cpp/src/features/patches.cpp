@@ -115,9 +115,10 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   // their normals need only lean towards up (not a back, a wall or a door).
   const Eigen::Vector3d upn = up ? Eigen::Vector3d(up->normalized()) : Eigen::Vector3d::Zero();
   const double cos_level = std::cos(o.level_deg * detail::kDeg), cos_seed = std::cos(0.5 * o.level_deg * detail::kDeg);
-  const auto on_plane = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& n, const Eigen::Vector3d& c, bool level) {
+  // whether x, `dist` from a patch's plane, lies on it
+  const auto on_plane = [&](const Eigen::Vector3d& x, double dist, bool level) {
     const double t = level ? tol(x.z()) * std::max(0.25, std::abs(upn.dot(x.normalized()))) : tol(x.z());
-    return std::abs(n.dot(x - c)) <= t;
+    return std::abs(dist) <= t;
   };
   // Grows the free cells connected to `seed` that lie on the plane of those gathered so far
   // (starting from n through c; a level one's normal stays up), refitting it as the region doubles.
@@ -146,7 +147,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
         if (seen[std::size_t(j)] || !valid[std::size_t(j)] || label[std::size_t(j)] >= 0) continue;
         const Eigen::Vector3d pj = g.p(j);
         if (std::abs(pj.z() - pk.z()) > o.depth_jump * pk.z() || colour_edge(k, j)) continue;
-        if (!on_plane(pj, n, c, level) || g.n(j).dot(n) < (level ? cos_level : cos_max)) continue;
+        if (!on_plane(pj, n.dot(pj - c), level) || g.n(j).dot(n) < (level ? cos_level : cos_max)) continue;
         seen[std::size_t(j)] = 1;
         queue.push_back(j);
       }
@@ -212,7 +213,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
           if (taken[std::size_t(i)] || !valid_point(q)) continue;
           const Eigen::Vector3d x(q[0], q[1], q[2]);
           const double dist = patch.normal.dot(x - c);
-          if (!on_plane(x, patch.normal, c, level)) continue;
+          if (!on_plane(x, dist, level)) continue;
           taken[std::size_t(i)] = 1;
           pixels.push_back(i);
           sq += dist * dist;

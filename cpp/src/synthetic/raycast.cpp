@@ -364,8 +364,8 @@ bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tm
   return found;
 }
 
-std::vector<std::uint32_t> objects_hit(const RenderScene& rs, const Vec3& o, const Vec3& d) {
-  std::vector<std::uint32_t> out;
+void objects_hit(const RenderScene& rs, const Vec3& o, const Vec3& d, std::vector<std::uint32_t>& out) {
+  out.clear();
   Hit h;
   const double inf = std::numeric_limits<double>::infinity();
   for (const RenderObject& ro : rs.objects) {
@@ -376,7 +376,6 @@ std::vector<std::uint32_t> objects_hit(const RenderScene& rs, const Vec3& o, con
         break;
       }
   }
-  return out;
 }
 
 bool cast_any(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax) {

@@ -194,9 +194,12 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
     std::mutex m;
     tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
       std::vector<std::size_t> local(alone.size(), 0);
+      std::vector<std::uint32_t> hit;
       for (int v = rows.begin(); v < rows.end(); ++v)
-        for (int u = 0; u < W; ++u)
-          for (std::uint32_t id : objects_hit(rs, Vec3::Zero(), ray_dir(u, v))) ++local[id];
+        for (int u = 0; u < W; ++u) {
+          objects_hit(rs, Vec3::Zero(), ray_dir(u, v), hit);
+          for (std::uint32_t id : hit) ++local[id];
+        }
       const std::lock_guard<std::mutex> lock(m);
       for (std::size_t k = 0; k < alone.size(); ++k) alone[k] += local[k];
     });

@@ -33,6 +33,15 @@ Eigen::Vector3f furniture_color(Rng& rng) {
   }
 }
 
+/// Four square legs of side `leg` standing on the floor under `at` (turned by R) at (+-lx, +-ly),
+/// `height` tall: a table's or a chair's.
+void add_legs(SceneObject& o, const Vec3& at, const Eigen::Matrix3d& R, double lx, double ly, double leg, double height) {
+  const double sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
+  for (int i = 0; i < 4; ++i)
+    o.parts.emplace_back("leg" + std::to_string(i + 1), oriented("box", at + R * Vec3(sx[i] * lx, sy[i] * ly, 0) + Vec3(0, 0, 0.5 * height),
+                                                                 R, Vec3(leg, leg, height)));
+}
+
 /// A table: a top at `height` (its upper face), `length` x `width`, on four legs, turned by `yaw`.
 SceneObject table(Rng& rng, const Vec3& at, double yaw, double length, double width, double height) {
   SceneObject t;
@@ -41,12 +50,7 @@ SceneObject table(Rng& rng, const Vec3& at, double yaw, double length, double wi
   const double top = rng.uniform(0.02, 0.04), leg = rng.uniform(0.035, 0.06), inset = rng.uniform(0.03, 0.08);
   const Eigen::Matrix3d R = rotation(yaw, 0, 0);
   t.parts.emplace_back("top", oriented("box", at + Vec3(0, 0, height - 0.5 * top), R, Vec3(length, width, top)));
-  const double lx = 0.5 * length - inset - 0.5 * leg, ly = 0.5 * width - inset - 0.5 * leg;
-  const double sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
-  for (int i = 0; i < 4; ++i)
-    t.parts.emplace_back("leg" + std::to_string(i + 1),
-                         oriented("box", at + R * Vec3(sx[i] * lx, sy[i] * ly, 0) + Vec3(0, 0, 0.5 * (height - top)), R,
-                                  Vec3(leg, leg, height - top)));
+  add_legs(t, at, R, 0.5 * length - inset - 0.5 * leg, 0.5 * width - inset - 0.5 * leg, leg, height - top);
   return t;
 }
 
@@ -81,18 +85,12 @@ SceneObject chair(Rng& rng, const Vec3& at, double facing, bool office) {
                            oriented("box", at + Vec3(0.15 * std::cos(a), 0.15 * std::sin(a), 0.05), rotation(a, 0, 0),
                                     Vec3(0.3, 0.04, 0.04)));
     }
-    if (!(gap > 0)) return c;
     // the back's post from the seat's rear
     c.parts.emplace_back("post", oriented("box", at + R * Vec3(0, -0.5 * sd + 0.5 * bt, 0) + Vec3(0, 0, sh + 0.5 * gap), R,
                                           Vec3(0.05, bt, gap + 0.01)));
   } else {
     const double leg = rng.uniform(0.025, 0.04);
-    const double lx = 0.5 * sw - 0.5 * leg, ly = 0.5 * sd - 0.5 * leg;
-    const double sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
-    for (int i = 0; i < 4; ++i)
-      c.parts.emplace_back("leg" + std::to_string(i + 1),
-                           oriented("box", at + R * Vec3(sx[i] * lx, sy[i] * ly, 0) + Vec3(0, 0, 0.5 * (sh - st)), R,
-                                    Vec3(leg, leg, sh - st)));
+    add_legs(c, at, R, 0.5 * sw - 0.5 * leg, 0.5 * sd - 0.5 * leg, leg, sh - st);
   }
   return c;
 }

@@ -1319,8 +1319,9 @@ TEST(Features, TheRangeResidualsGradientMatchesItsDifferences) {
 
 // Bounded planar patches against a ray-cast room with exact sizes: a floor 1.3 m below the camera,
 // a coffee table's top 0.45 m above it (1.2 x 0.7 m), a wall 4.5 m ahead, and a door leaf standing ajar in
-// front of it (a door flush with its wall is one plane with it: depth alone cannot part them). Each is one patch with its true size and area; with gravity the
-// upright ones' rectangles stand along it.
+// front of it (a door flush with its wall is one plane with it: depth alone cannot part them), and a box as high as the
+// table. Each is one patch with its true size and area; with gravity the upright ones' rectangles stand along it, and
+// the table top is open below where the box's top is not.
 TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
   const int rows = 480, cols = 640;
   const double f = 525, cx = 319.5, cy = 239.5;
@@ -1337,7 +1338,10 @@ TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
       {{0, 1.3, 3}, {0, -1, 0}, {1, 0, 0}, 8, 8},                // floor
       {{0.2, 0.85, 2.4}, {0, -1, 0}, {1, 0, 0}, 1.2, 0.7},       // a coffee table's top, 0.45 m high
       {{0, -0.2, 4.5}, {0, 0, -1}, {1, 0, 0}, 8, 3},             // wall
-      {{-1.3, 0.3, 4.2}, {0.5, 0, -0.866}, {0.866, 0, 0.5}, 0.9, 2.0}};  // a door leaf ajar (30 degrees)
+      {{-1.3, 0.3, 4.2}, {0.5, 0, -0.866}, {0.866, 0, 0.5}, 0.9, 2.0},   // a door leaf ajar (30 degrees)
+      {{1.15, 0.85, 2.6}, {0, -1, 0}, {1, 0, 0}, 0.5, 0.5},              // a box's top as high as the table's
+      {{1.15, 1.075, 2.35}, {0, 0, -1}, {1, 0, 0}, 0.5, 0.45},           // ... its front below it
+      {{0.9, 1.075, 2.6}, {-1, 0, 0}, {0, 0, 1}, 0.5, 0.45}};            // ... and its side
   Cloud cloud(rows, cols);
   for (int v = 0; v < rows; ++v)
     for (int u = 0; u < cols; ++u) {
@@ -1375,6 +1379,12 @@ TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
   EXPECT_NEAR(std::min(top->size_u, top->size_v), 0.7, 0.02);
   EXPECT_NEAR(top->area, 1.2 * 0.7, 0.04 * 1.2 * 0.7);
   EXPECT_NEAR((top->point - room_from_camera.transpose() * (rects[1].c - eye)).norm(), 0.0, 0.02);
+  // below the table top's near edge the floor shows far behind it (open: on legs); below the
+  // box's, its front at the edge's depth
+  const auto* box = near_to(rects[4]);
+  ASSERT_NE(box, nullptr);
+  EXPECT_GT(top->open_below, 0.9);
+  EXPECT_LT(box->open_below, 0.1);
   // the door: upright, so u_axis is horizontal and size_v its height
   const auto* door = near_to(rects[3]);
   ASSERT_NE(door, nullptr);

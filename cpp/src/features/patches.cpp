@@ -70,6 +70,30 @@ double angular_pixel(const Cloud& cloud) {
   return q > 0 ? q : 1.0 / 525;
 }
 
+/// The share of what is seen 0.12-0.3 m below a patch's near edge (down its image columns from
+/// each column's lowest pixel: cameras held about level) that lies far behind the edge (open space:
+/// legs, the floor under a table) rather than at its depth (a box's front under its top); what
+/// lies in front (an occluder) does not count. NaN with fewer than 20 such pixels.
+double open_below(const Cloud& cloud, const std::vector<int>& pixels, double a) {
+  const int W = cloud.cols(), H = cloud.rows();
+  std::vector<int> bottom(std::size_t(W), -1);
+  for (int i : pixels) bottom[std::size_t(i % W)] = std::max(bottom[std::size_t(i % W)], i / W);
+  int open = 0, closed = 0;
+  for (int u = 0; u < W; ++u) {
+    if (bottom[std::size_t(u)] < 0) continue;
+    const double z = cloud.ptr(bottom[std::size_t(u)], u)[2], s = z * a;  // a pixel's size there
+    const double margin = std::max(0.1, 0.03 * z);
+    const int v0 = bottom[std::size_t(u)] + int(std::ceil(0.12 / s)), v1 = bottom[std::size_t(u)] + int(std::ceil(0.3 / s));
+    for (int v = v0; v <= std::min(v1, H - 1); ++v) {
+      const float* q = cloud.ptr(v, u);
+      if (!valid_point(q)) continue;
+      if (q[2] > z + margin) ++open;
+      else if (q[2] >= z - margin) ++closed;
+    }
+  }
+  return open + closed >= 20 ? double(open) / (open + closed) : std::nan("");
+}
+
 }  // namespace
 
 std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals, const PatchOptions& o,
@@ -105,8 +129,18 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
         }
       cell_colour[std::size_t(k)] = sum / float(std::max(1, count));
     }
+  // a step from cell a to b crosses a colour edge when b differs from a, or from the cell behind
+  // a on the same line: an edge blurred over two cells (a door's frame drawn in) is a step too,
+  // a wall's shading over three cells is not
   const auto colour_edge = [&](int a, int b) {
-    return by_colour && (cell_colour[std::size_t(a)] - cell_colour[std::size_t(b)]).norm() > o.colour_edge;
+    if (!by_colour) return false;
+    const auto differ = [&](int x, int y) {
+      return (cell_colour[std::size_t(x)] - cell_colour[std::size_t(y)]).norm() > o.colour_edge;
+    };
+    if (differ(a, b)) return true;
+    const int du = b % g.gw - a % g.gw, dv = b / g.gw - a / g.gw;
+    const int bu = a % g.gw - du, bv = a / g.gw - dv;
+    return bu >= 0 && bu < g.gw && bv >= 0 && bv < g.gh && differ(bv * g.gw + bu, b);
   };
   // With gravity and level_deg, level surfaces (seats, table tops, the floor) are grown first,
   // about the plane normal to up through their points' mean height: their normals are the worst
@@ -177,10 +211,25 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   }
   std::stable_sort(seeds.begin(), seeds.end());
   std::vector<Segment> out;
-  std::vector<std::uint8_t> tried(std::size_t(cells), 0);
+  std::vector<std::uint8_t> tried(std::size_t(cells), 0), band(std::size_t(cells), 0);
+  // a region's thinner side across up: sqrt(12) times the smaller spread of its cells (a rectangle's)
+  const auto level_width = [&](const std::vector<int>& region) {
+    const Eigen::Vector3d e0 = upn.unitOrthogonal(), e1 = upn.cross(e0);
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (int k : region) {
+      const Eigen::Vector3d x = g.p(k);
+      const Eigen::Vector2d q(e0.dot(x), e1.dot(x));
+      mean += q, cov += q * q.transpose();
+    }
+    const double n = double(region.size());
+    mean /= n;
+    cov = cov / n - mean * mean.transpose();
+    return std::sqrt(12.0 * std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues()(0)));
+  };
   for (const bool level : {true, false})
   for (const auto& [flatness, seed] : seeds) {
-    if (label[std::size_t(seed)] >= 0 || tried[std::size_t(seed)]) continue;
+    if (label[std::size_t(seed)] >= 0 || (!level && tried[std::size_t(seed)]) || (level && band[std::size_t(seed)])) continue;
     if (level && (!up || !(o.level_deg > 0) || g.n(seed).dot(upn) < cos_seed)) continue;
     // grown twice: from the seed's normal (up for a level one), then from the plane that gathered
     // (a noisy seed normal stops the first growth early)
@@ -194,6 +243,10 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
     const Eigen::Vector3d n1 = level ? upn : sums.normal(g.n(seed)), c1 = sums.centroid();
     region = grow(seed, n1, c1, sums, level);
     if (int(region.size()) < min_cells) continue;
+    if (level && level_width(region) < o.level_min_width) {
+      for (int k : region) band[std::size_t(k)] = 1;  // seeds no other level region
+      continue;
+    }
     const int id = int(out.size());
     for (int k : region) label[std::size_t(k)] = id;
 
@@ -250,6 +303,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       const Eigen::Vector2d m = es.eigenvectors().col(1);
       patch.u_axis = (m.x() * e0 + m.y() * e1).normalized();
     }
+    if (up) patch.open_below = open_below(cloud, pixels, a);
     const Eigen::Vector3d v_axis = patch.normal.cross(patch.u_axis).normalized();
     std::vector<double> su, sv;
     su.reserve(pts.size()), sv.reserve(pts.size());

@@ -20,6 +20,7 @@ void Patch::fields(FieldList& out, bool) const {
   out.push_back({"size_u", size_u});
   out.push_back({"size_v", size_v});
   out.push_back({"area", area});
+  if (std::isfinite(open_below)) out.push_back({"open_below", open_below});
 }
 
 bool Patch::set_field(const std::string& key, const FieldValue& v) {
@@ -29,6 +30,7 @@ bool Patch::set_field(const std::string& key, const FieldValue& v) {
   if (key == "size_u" && number(v)) return size_u = *number(v), true;
   if (key == "size_v" && number(v)) return size_v = *number(v), true;
   if (key == "area" && number(v)) return area = *number(v), true;
+  if (key == "open_below" && number(v)) return open_below = *number(v), true;
   return false;
 }
 
@@ -36,6 +38,7 @@ std::optional<double> Patch::attribute(const std::string& key) const {
   if (key == "length") return std::max(size_u, size_v);
   if (key == "width") return std::min(size_u, size_v);
   if (key == "area") return area;
+  if (key == "open_below") return std::isfinite(open_below) ? std::optional<double>(open_below) : std::nullopt;
   return std::nullopt;
 }
 

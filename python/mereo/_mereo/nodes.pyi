@@ -63,7 +63,8 @@ def detect_patches(**kwargs) -> mereo._mereo.NodeTemplate:
         upright_deg (float, default 30, 0..90): with gravity: patches this close to upright get a horizontal u_axis
         max_depth (float, default 6, 0.1..100): patches whose median depth is beyond this are none, metres
         colour_edge (float, default 0.15, 0..2): with colour: growth does not cross a colour step larger than this (0: off)
-        level_deg (float, default 0, 0..90): with gravity: level patches take cells whose normals lean at most this from up
+        level_deg (float, default 30, 0..90): with gravity: level patches take cells whose normals lean at most this from up
+        level_min_width (float, default 0.1, 0..10): level regions narrower than this are bands across upright surfaces, metres
     """
 def detect_primitives(**kwargs) -> mereo._mereo.NodeTemplate:
     """

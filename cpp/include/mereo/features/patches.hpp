@@ -28,10 +28,14 @@ struct PatchOptions {
   double upright_deg = 30.0;
   /// With gravity known and level_deg > 0, level patches are grown first about the plane normal
   /// to up, of cells whose normals lean no more than this from up (seeds: half of it); the others
-  /// then as above. Off by default: on the real room frames it found two more labelled chairs and
-  /// tables and seven more false ones (blinds' slats and drawers at seat height); on rendered
-  /// Kinect-like rooms, whose seats' normals are the worst, it finds more seats.
-  double level_deg = 0.0;
+  /// then as above. A seat or a table top seen at a grazing angle has the worst normals of a frame
+  /// but well measured heights: grown on its plane it is found whole, its sizes within 2-3 cm.
+  /// 0: off.
+  double level_deg = 30.0;
+  /// A level region narrower than this (its cells' thinner horizontal spread, as the side of a
+  /// rectangle) is a band across an upright surface (a back, a wall, blinds' slats), not a level
+  /// patch: its cells are left to the upright growth. Metres.
+  double level_min_width = 0.1;
   /// With a colour image, growth does not cross between neighbouring cells whose mean colours
   /// differ by more than this (RGB in [0, 1], Euclidean): a door in the plane of its wall (rendered
   /// rooms 9100-9119: doors 5/20 -> 6/20; the real room frames: unchanged). 0: off.
@@ -56,6 +60,7 @@ inline const Fields<PatchOptions>& PatchOptions::fields() {
       field("max_depth", &O::max_depth, 0.1, 100, "patches whose median depth is beyond this are none, metres"),
       field("colour_edge", &O::colour_edge, 0, 2, "with colour: growth does not cross a colour step larger than this (0: off)"),
       field("level_deg", &O::level_deg, 0, 90, "with gravity: level patches take cells whose normals lean at most this from up"),
+      field("level_min_width", &O::level_min_width, 0, 10, "level regions narrower than this are bands across upright surfaces, metres"),
   };
   return f;
 }

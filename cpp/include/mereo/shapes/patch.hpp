@@ -3,7 +3,11 @@
 // unit `normal` towards the camera, unit `u_axis` in the plane (horizontal for a patch that
 // stands upright when gravity is known, else its points' main direction), `size_u` along u_axis
 // and `size_v` across it (metres; the 2nd to 98th percentiles of the points), `area` (square
-// metres: its pixels' footprint on the plane, what is seen of it, not the rectangle's). Not
+// metres: its pixels' footprint on the plane, what is seen of it, not the rectangle's),
+// `open_below` (with gravity known: the share of what is seen 0.12-0.3 m below its lower edge in
+// the image that lies far behind that edge, not at its depth: 1 for a table top or a seat on
+// legs, or a chair's back seen from behind, 0 for a box's or a cabinet's top with its front
+// below; NaN unmeasured). Not
 // detected by RANSAC: found by features::planar_patches; models name it (graphs/models/room.yaml).
 #pragma once
 
@@ -17,12 +21,13 @@ namespace mereo::shapes {
 struct Patch : Undetected<Patch> {
   static constexpr const char* name = "patch";
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
-  static constexpr std::array<const char*, 3> attributes = {"length", "width", "area"};  ///< names of attribute()
+  static constexpr std::array<const char*, 4> attributes = {"length", "width", "area", "open_below"};  ///< names of attribute()
 
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d u_axis = Eigen::Vector3d::UnitX();
   double size_u = 0.0, size_v = 0.0, area = 0.0;
+  double open_below = std::nan("");
 
   /// The in-plane axis across u_axis.
   Eigen::Vector3d v_axis() const { return normal.normalized().cross(u_axis).normalized(); }

@@ -1385,12 +1385,22 @@ TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
   ASSERT_NE(box, nullptr);
   EXPECT_GT(top->open_below, 0.9);
   EXPECT_LT(box->open_below, 0.1);
+  // the wall runs out of the image at its sides and top; its foot meets the floor; the door leaf
+  // stands whole in view
+  const auto* wall = near_to(rects[2]);
+  ASSERT_NE(wall, nullptr);
+  EXPECT_GT(wall->side_cut, 0.9);
+  EXPECT_TRUE(wall->top_hidden);
+  EXPECT_FALSE(wall->bottom_hidden);
   // the door: upright, so u_axis is horizontal and size_v its height
   const auto* door = near_to(rects[3]);
   ASSERT_NE(door, nullptr);
   EXPECT_LT(std::abs(door->u_axis.dot(up)), 1e-6);
   EXPECT_NEAR(door->size_u, 0.9, 0.02);
   EXPECT_NEAR(door->size_v, 2.0, 0.05);  // 4.2 m away: its foot meets the floor, which takes a rim of it
+  EXPECT_EQ(door->side_cut, 0.0);
+  EXPECT_FALSE(door->top_hidden);
+  EXPECT_FALSE(door->bottom_hidden);
   // the floor and the wall are single patches, not pieces, and the door is apart from the wall
   ASSERT_NE(near_to(rects[0]), nullptr);
   ASSERT_NE(near_to(rects[2]), nullptr);

@@ -151,6 +151,36 @@ TEST(Predicates, ABaseArcUnderItsRim) {
   EXPECT_DOUBLE_EQ(judge(rim, cylinder({0, 0, 1}, {0, -1, 0}, 0.04, 0.1)), 0.0);
 }
 
+// A patch whose upper edge is hidden (cut by the image or an occluder) may reach higher than seen:
+// its `top` scores as the best value at or above the one seen; its lower edge likewise. A door
+// 1.7 m high as seen, in a range of 1.85-2.4 m: a full member when its top is hidden, not when seen.
+TEST(Predicates, HiddenEdgesOfAPatchAreLowerAndUpperBounds) {
+  Context ctx;
+  ctx.up = -Eigen::Vector3d::UnitY();
+  ctx.support_d = 1.5;  // the floor is the plane y = 1.5 (the camera 1.5 m above it)
+  shapes::Patch p;
+  p.point = Eigen::Vector3d(0, 1.5 - 0.95, 4), p.normal = -Eigen::Vector3d::UnitZ(), p.u_axis = Eigen::Vector3d::UnitX();
+  p.size_u = 0.8, p.size_v = 1.5;  // from 0.2 to 1.7 m above the floor
+  Attribute top{"leaf", "top", Membership::range(1.85, 2.4, 0.15), ""};
+  Attribute bottom{"leaf", "bottom", Membership::at_most(0.05, 0.15), ""};
+  const Segment seen{p};
+  EXPECT_NEAR(attribute_value(seen, "top", ctx), 1.7, 1e-12);
+  EXPECT_NEAR(attribute_value(seen, "bottom", ctx), 0.2, 1e-12);
+  EXPECT_DOUBLE_EQ(attribute_membership(seen, top, ctx), 0.0);
+  EXPECT_DOUBLE_EQ(attribute_membership(seen, bottom, ctx), 0.0);
+  p.top_hidden = p.bottom_hidden = true;
+  const Segment hidden{p};
+  EXPECT_DOUBLE_EQ(attribute_membership(hidden, top, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(attribute_membership(hidden, bottom, ctx), 1.0);
+  // a bound never helps a value beyond the range's far side: a top seen at 2.6 m stays out
+  p.size_v = 3.3;  // from -0.7 to 2.6 m
+  const Segment tall{p};
+  EXPECT_DOUBLE_EQ(attribute_membership(tall, top, ctx), 0.0);
+  // other classes and attributes: the range as it is
+  Attribute width{"leaf", "width", Membership::range(0.65, 1.1, 0.12), ""};
+  EXPECT_DOUBLE_EQ(attribute_membership(hidden, width, ctx), 1.0);
+}
+
 // rest_gap: an axial body's lowest point above the support, from the geometry of a finite
 // cylinder (its ends' rims) against a table 0.8 m below a camera looking along it (up = -y).
 TEST(Predicates, RestGapIsTheLowestPointAboveTheSupport) {

@@ -92,5 +92,10 @@ def test_furniture_is_tracked_over_a_rendered_room_orbit():
         for model, track in ids:
             assert models_of.setdefault(track, model) == model, f"track {track} changed model"
     assert per_frame[0] == set()  # one view alone does not make a report
-    assert all(sorted(m for m, _ in ids) == ["chair", "chair", "table"] for ids in per_frame[1:]), per_frame
-    assert len(models_of) == 3, models_of
+    # the two chairs and the table from frame 1 on, with the same ids; the room's one door (ajar,
+    # at the right) may come into view and be held too, but nothing else
+    furniture = [sorted((m, t) for m, t in ids if m != "door") for ids in per_frame[1:]]
+    assert [m for m, _ in furniture[0]] == ["chair", "chair", "table"], per_frame
+    assert all(f == furniture[0] for f in furniture), per_frame
+    assert all(len([m for m, _ in ids if m == "door"]) <= 1 for ids in per_frame), per_frame
+    assert len(models_of) <= 4, models_of

@@ -70,28 +70,70 @@ double angular_pixel(const Cloud& cloud) {
   return q > 0 ? q : 1.0 / 525;
 }
 
-/// The share of what is seen 0.12-0.3 m below a patch's near edge (down its image columns from
-/// each column's lowest pixel: cameras held about level) that lies far behind the edge (open space:
-/// legs, the floor under a table) rather than at its depth (a box's front under its top); what
-/// lies in front (an occluder) does not count. NaN with fewer than 20 such pixels.
-double open_below(const Cloud& cloud, const std::vector<int>& pixels, double a) {
+/// What a patch's pixels border on, down and up its image columns (cameras held about level) from
+/// each column's lowest and highest pixel. open_below: the share of what is seen 0.12-0.3 m below
+/// the lower edge that lies far behind it (open space: legs, the floor under a table) rather than
+/// at its depth (a box's front under its top); what lies in front (an occluder) does not count;
+/// NaN with fewer than 20 such pixels. top_hidden, bottom_hidden: along most of the edge, the image
+/// ends there (within 12 pixels of its border: the normals' window leaves a rim of bad normals
+/// that no patch takes) or the first depth a few pixels beyond it is nearer (an occluder in front).
+/// side_cut: the share of its rows that end on the image's left or right rim.
+void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool upright, shapes::Patch& patch) {
+  constexpr int rim = 12;
   const int W = cloud.cols(), H = cloud.rows();
-  std::vector<int> bottom(std::size_t(W), -1);
-  for (int i : pixels) bottom[std::size_t(i % W)] = std::max(bottom[std::size_t(i % W)], i / W);
+  std::vector<int> bottom(std::size_t(W), -1), top(std::size_t(W), H);
+  for (int i : pixels) {
+    const auto u = std::size_t(i % W);
+    bottom[u] = std::max(bottom[u], i / W), top[u] = std::min(top[u], i / W);
+  }
   int open = 0, closed = 0;
+  int hidden[2] = {0, 0}, seen[2] = {0, 0};  // above, below
   for (int u = 0; u < W; ++u) {
     if (bottom[std::size_t(u)] < 0) continue;
-    const double z = cloud.ptr(bottom[std::size_t(u)], u)[2], s = z * a;  // a pixel's size there
+    const int vb = bottom[std::size_t(u)], vt = top[std::size_t(u)];
+    const double z = cloud.ptr(vb, u)[2], s = z * a;  // a pixel's size there
     const double margin = std::max(0.1, 0.03 * z);
-    const int v0 = bottom[std::size_t(u)] + int(std::ceil(0.12 / s)), v1 = bottom[std::size_t(u)] + int(std::ceil(0.3 / s));
+    const int v0 = vb + int(std::ceil(0.12 / s)), v1 = vb + int(std::ceil(0.3 / s));
     for (int v = v0; v <= std::min(v1, H - 1); ++v) {
       const float* q = cloud.ptr(v, u);
       if (!valid_point(q)) continue;
       if (q[2] > z + margin) ++open;
       else if (q[2] >= z - margin) ++closed;
     }
+    if (!upright) continue;
+    // the first depth 2-5 pixels beyond each edge (a floor or a ceiling met at a grazing angle
+    // comes nearer by less than the margin over so few rows)
+    for (const int side : {0, 1}) {
+      const int edge = side == 0 ? vt : vb, dir = side == 0 ? -1 : 1;
+      const double ze = cloud.ptr(edge, u)[2];
+      if (side == 0 ? edge < rim : edge >= H - rim) {
+        ++seen[side], ++hidden[side];
+        continue;
+      }
+      for (int k = 2; k <= 5; ++k) {
+        const int v = edge + k * dir;
+        if (v < 0 || v >= H) break;
+        const float* q = cloud.ptr(v, u);
+        if (!valid_point(q)) continue;
+        ++seen[side];
+        hidden[side] += q[2] < ze - std::max(0.1, 0.03 * ze);
+        break;
+      }
+    }
   }
-  return open + closed >= 20 ? double(open) / (open + closed) : std::nan("");
+  // the rows whose first or last pixel lies on the image's side rim: the patch's width is cut there
+  std::vector<int> left(std::size_t(H), W), right(std::size_t(H), -1);
+  for (int i : pixels) {
+    const auto v = std::size_t(i / W);
+    left[v] = std::min(left[v], i % W), right[v] = std::max(right[v], i % W);
+  }
+  int rows = 0, cut = 0;
+  for (int v = 0; v < H; ++v)
+    if (right[std::size_t(v)] >= 0) ++rows, cut += left[std::size_t(v)] < rim || right[std::size_t(v)] >= W - rim;
+  patch.side_cut = rows ? double(cut) / rows : 0.0;
+  patch.open_below = open + closed >= 20 ? double(open) / (open + closed) : std::nan("");
+  patch.top_hidden = seen[0] > 0 && 2 * hidden[0] >= seen[0];
+  patch.bottom_hidden = seen[1] > 0 && 2 * hidden[1] >= seen[1];
 }
 
 }  // namespace
@@ -303,7 +345,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       const Eigen::Vector2d m = es.eigenvectors().col(1);
       patch.u_axis = (m.x() * e0 + m.y() * e1).normalized();
     }
-    if (up) patch.open_below = open_below(cloud, pixels, a);
+    if (up) edges(cloud, pixels, a, upright, patch);
     const Eigen::Vector3d v_axis = patch.normal.cross(patch.u_axis).normalized();
     std::vector<double> su, sv;
     su.reserve(pts.size()), sv.reserve(pts.size());

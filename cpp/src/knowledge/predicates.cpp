@@ -284,6 +284,16 @@ bool is_attribute(const std::string& name) {
   return std::find(n.begin(), n.end(), name) != n.end();
 }
 
+double attribute_membership(const Segment& s, const Attribute& a, const Context& ctx) {
+  const double v = attribute_value(s, a.name, ctx);
+  if (const auto* p = s.get_if<shapes::Patch>(); p && std::isfinite(v)) {
+    const Membership& m = a.range;
+    if (a.name == "top" && p->top_hidden) return v <= m.c ? 1.0 : m(v);  // it could reach [b, c]
+    if (a.name == "bottom" && p->bottom_hidden) return v >= m.b ? 1.0 : m(v);
+  }
+  return a.range(v);
+}
+
 double attribute_value(const Segment& s, const std::string& name, const Context& ctx) {
   // the class's own (mereo/shapes/*.cpp: radius, height, minor_radius, aspect, d...), then those
   // of every segment; an attribute the class lacks is NaN (a membership of 0)

@@ -144,7 +144,7 @@ struct Prepared {
       for (std::size_t j = sub_range[i].first; j < sub_range[i].second; ++j) {
         double m = subs[j - segs.size()].score;  // the sub-hypothesis's score, times this part's ranges
         for (const auto& a : c.attributes)
-          if (a.part == c.parts[i].role) m *= a.range(knowledge::attribute_value(ext[j], a.name, o.context));
+          if (a.part == c.parts[i].role) m *= knowledge::attribute_membership(ext[j], a, o.context);
         domain[i].push_back(int(j));
         unary[i][j] = m;
       }
@@ -224,7 +224,7 @@ double part_score(const Concept& c, int part, const Segment& s, const Context& c
   if (s.class_name() != c.parts.at(part).cls) return 0.0;
   double m = 1.0;
   for (const auto& a : c.attributes)
-    if (a.part == c.parts[part].role) m *= a.range(knowledge::attribute_value(s, a.name, ctx));
+    if (a.part == c.parts[part].role) m *= knowledge::attribute_membership(s, a, ctx);
   return m;
 }
 

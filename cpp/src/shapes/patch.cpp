@@ -21,6 +21,9 @@ void Patch::fields(FieldList& out, bool) const {
   out.push_back({"size_v", size_v});
   out.push_back({"area", area});
   if (std::isfinite(open_below)) out.push_back({"open_below", open_below});
+  out.push_back({"top_hidden", top_hidden});
+  out.push_back({"side_cut", side_cut});
+  out.push_back({"bottom_hidden", bottom_hidden});
 }
 
 bool Patch::set_field(const std::string& key, const FieldValue& v) {
@@ -31,6 +34,13 @@ bool Patch::set_field(const std::string& key, const FieldValue& v) {
   if (key == "size_v" && number(v)) return size_v = *number(v), true;
   if (key == "area" && number(v)) return area = *number(v), true;
   if (key == "open_below" && number(v)) return open_below = *number(v), true;
+  if (key == "side_cut" && number(v)) return side_cut = *number(v), true;
+  if (key == "top_hidden" || key == "bottom_hidden") {
+    const bool* b = std::get_if<bool>(&v);
+    if (!b && !number(v)) return false;
+    (key == "top_hidden" ? top_hidden : bottom_hidden) = b ? *b : *number(v) != 0;
+    return true;
+  }
   return false;
 }
 
@@ -38,6 +48,7 @@ std::optional<double> Patch::attribute(const std::string& key) const {
   if (key == "length") return std::max(size_u, size_v);
   if (key == "width") return std::min(size_u, size_v);
   if (key == "area") return area;
+  if (key == "side_cut") return side_cut;
   if (key == "open_below") return std::isfinite(open_below) ? std::optional<double>(open_below) : std::nullopt;
   return std::nullopt;
 }

@@ -71,6 +71,11 @@ const std::vector<std::string>& predicate_params(const std::string& name);
 const std::vector<std::string>& attribute_names();
 bool is_attribute(const std::string& name);
 double attribute_value(const Segment& s, const std::string& name, const Context& context);
+/// The membership of a part's attribute in its range. A patch whose upper (lower) edge is hidden
+/// (shapes::Patch::top_hidden, bottom_hidden: it runs out of the image or behind something
+/// nearer) reaches at least as high (low) as seen: its `top` (`bottom`) scores as the best value
+/// at or above (below) the one seen, a door cut by the image's top edge as a whole one.
+double attribute_membership(const Segment& s, const Attribute& a, const Context& context);
 
 /// The value of a constraint on the parts' data (custom or built-in), clamped to [0, 1].
 double evaluate(const Constraint& c, const std::vector<const Segment*>& parts,

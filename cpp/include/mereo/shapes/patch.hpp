@@ -7,7 +7,11 @@
 // `open_below` (with gravity known: the share of what is seen 0.12-0.3 m below its lower edge in
 // the image that lies far behind that edge, not at its depth: 1 for a table top or a seat on
 // legs, or a chair's back seen from behind, 0 for a box's or a cabinet's top with its front
-// below; NaN unmeasured). Not
+// below; NaN unmeasured), `top_hidden` and `bottom_hidden` (an upright patch whose upper or lower
+// edge runs out of the image or behind something nearer along most of its length: it may reach
+// higher or lower than seen; knowledge::attribute_membership scores its `top`, `bottom` so),
+// `side_cut` (the share of its rows that run out of the image at its left or right side: its
+// width there is not its own). Not
 // detected by RANSAC: found by features::planar_patches; models name it (graphs/models/room.yaml).
 #pragma once
 
@@ -21,13 +25,15 @@ namespace mereo::shapes {
 struct Patch : Undetected<Patch> {
   static constexpr const char* name = "patch";
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
-  static constexpr std::array<const char*, 4> attributes = {"length", "width", "area", "open_below"};  ///< names of attribute()
+  static constexpr std::array<const char*, 5> attributes = {"length", "width", "area", "open_below", "side_cut"};  ///< names of attribute()
 
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d u_axis = Eigen::Vector3d::UnitX();
   double size_u = 0.0, size_v = 0.0, area = 0.0;
   double open_below = std::nan("");
+  bool top_hidden = false, bottom_hidden = false;  ///< an upright patch's upper, lower edge hidden
+  double side_cut = 0.0;                            ///< the share of its rows cut by the image's sides
 
   /// The in-plane axis across u_axis.
   Eigen::Vector3d v_axis() const { return normal.normalized().cross(u_axis).normalized(); }

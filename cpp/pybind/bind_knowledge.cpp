@@ -240,6 +240,7 @@ void bind_knowledge(py::module_& m) {
   py::class_<mt::Lattice>(m, "Lattice", "Hypotheses and the exclusion arcs between those sharing a segment.")
       .def_readonly("hypotheses", &mt::Lattice::hypotheses)
       .def_readonly("excludes", &mt::Lattice::excludes)
+      .def_readonly("same_place", &mt::Lattice::same_place)
       .def_readonly("stats", &mt::Lattice::stats);
   mereo::py_util::register_converter(
       "Lattice", {[](const mereo::graph::Value& v) { return py::cast(v.get<mt::Lattice>()); },

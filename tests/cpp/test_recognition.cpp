@@ -18,6 +18,7 @@
 #include "mereo/extension/normals.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/matching/explain.hpp"
+#include "mereo/knowledge/predicates.hpp"
 #include "mereo/matching/interpret.hpp"
 #include "mereo/synthetic/scene.hpp"
 
@@ -466,4 +467,37 @@ TEST(Explain, FarNoisyWallsCountWithinTheirFitsOwnResidual) {
   ASSERT_GE(bodies, 15);
   EXPECT_GT(accepted, fixed_accepted);
   EXPECT_LE(moved_accepted, int(0.1 * bodies));
+}
+
+// A chair whose seat and back were each found in two pieces matches twice, on disjoint segments;
+// with one_per_place it is one chair. A second chair 0.7 m beside it stays a chair of its own.
+TEST(Interpret, OneObjectPerPlaceWhenItsPartsComeInPieces) {
+  const auto kb = knowledge::builtin_models();
+  const auto patch = [](Eigen::Vector3d c, Eigen::Vector3d n, double su, double sv, double open_below) {
+    shapes::Patch p;
+    p.point = c, p.normal = n, p.u_axis = Eigen::Vector3d::UnitX(), p.size_u = su, p.size_v = sv;
+    p.area = su * sv, p.open_below = open_below;
+    Segment s(p);
+    s.inliers = 2000;
+    return s;
+  };
+  // camera frame, y down; the floor 1.4 m below the camera: a seat 0.45 m up is at y = 0.95
+  const Eigen::Vector3d up(0, -1, 0), facing(0, 0, -1);
+  std::vector<Segment> segs = {
+      patch({-0.4, 0.95, 3.0}, up, 0.2, 0.4, 1.0),  patch({-0.2, 0.95, 3.0}, up, 0.2, 0.4, 1.0),   // seat, in two
+      patch({-0.4, 0.7, 3.2}, facing, 0.2, 0.4, NAN), patch({-0.2, 0.7, 3.2}, facing, 0.2, 0.4, NAN),  // back, in two
+      patch({0.5, 0.95, 3.0}, up, 0.4, 0.4, 1.0),   patch({0.5, 0.7, 3.2}, facing, 0.4, 0.4, NAN)};  // the other chair
+  matching::MatchOptions mo;
+  mo.context.up = up, mo.context.support_d = 1.4;
+  const auto lattice = matching::recognize(kb, {"chair"}, segs, mo);
+  ASSERT_FALSE(lattice.same_place.empty());
+  const auto chairs = [&](bool one) {
+    matching::InterpretOptions io;
+    io.one_per_place = one;
+    int n = 0;
+    for (const auto& o : matching::interpret(kb, lattice, io)) n += o.accepted && o.model == "chair";
+    return n;
+  };
+  EXPECT_EQ(chairs(false), 3);
+  EXPECT_EQ(chairs(true), 2);
 }

@@ -39,9 +39,28 @@ struct Grid {
   const Cloud& cloud;
   const NormalMap& normals;
   int step, gw, gh, W;
+  std::vector<int> rep;  // each cell's pixel: the first of its block with a point and a normal
   Grid(const Cloud& c, const NormalMap& n, int s)
-      : cloud(c), normals(n), step(s), gw((c.cols() + s - 1) / s), gh((c.rows() + s - 1) / s), W(c.cols()) {}
-  int pixel(int k) const { return (k / gw) * step * W + (k % gw) * step; }
+      : cloud(c), normals(n), step(s), gw((c.cols() + s - 1) / s), gh((c.rows() + s - 1) / s), W(c.cols()) {
+    // a surface whose depth is sparse (dark, seen at a grazing angle: a table top from 3 m) keeps
+    // its cells where one pixel of each block has depth
+    rep.resize(std::size_t(gw) * std::size_t(gh));
+    for (int k = 0; k < gw * gh; ++k) {
+      const int u0 = (k % gw) * step, v0 = (k / gw) * step;
+      int best = v0 * W + u0;
+      for (int v = v0; v < std::min(c.rows(), v0 + step) && best == v0 * W + u0 && !usable(best); ++v)
+        for (int u = u0; u < std::min(c.cols(), u0 + step); ++u)
+          if (usable(v * W + u)) {
+            best = v * W + u;
+            break;
+          }
+      rep[std::size_t(k)] = best;
+    }
+  }
+  bool usable(int i) const {
+    return valid_point(cloud.data() + 3 * std::size_t(i)) && std::isfinite(normals.data()[3 * std::size_t(i)]);
+  }
+  int pixel(int k) const { return rep[std::size_t(k)]; }
   Eigen::Vector3d p(int k) const {
     const float* q = cloud.data() + 3 * std::size_t(pixel(k));
     return Eigen::Vector3d(q[0], q[1], q[2]);
@@ -50,10 +69,7 @@ struct Grid {
     const float* q = normals.data() + 3 * std::size_t(pixel(k));
     return Eigen::Vector3d(q[0], q[1], q[2]);
   }
-  bool valid(int k) const {
-    const int i = pixel(k);
-    return valid_point(cloud.data() + 3 * std::size_t(i)) && std::isfinite(normals.data()[3 * std::size_t(i)]);
-  }
+  bool valid(int k) const { return usable(pixel(k)); }
 };
 
 /// The size of a pixel seen at 1 m (1 / focal length), from the cloud: the median difference of
@@ -295,16 +311,21 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
     shapes::Patch patch;
     patch.normal = level ? upn : sums.normal(n1);
     const Eigen::Vector3d c = sums.centroid();
-    // every pixel of the region's blocks on its plane; the seen area
+    // every pixel of the region's blocks on its plane; the seen area: theirs and that of the holes
+    // in depth in their blocks (a surface whose depth is sparse covers its blocks all the same)
     std::vector<int> pixels;
     double area = 0, sq = 0;
     const int H = cloud.rows(), W = cloud.cols();
     for (int k : region) {
       const int u0 = (k % g.gw) * o.step, v0 = (k / g.gw) * o.step;
-      for (int v = v0; v < std::min(H, v0 + o.step); ++v)
-        for (int u = u0; u < std::min(W, u0 + o.step); ++u) {
+      const int bw = std::min(W, u0 + o.step) - u0, bh = std::min(H, v0 + o.step) - v0;
+      double block = 0;  // the footprint of the block's pixels on the plane
+      int on = 0, holes = 0;
+      for (int v = v0; v < v0 + bh; ++v)
+        for (int u = u0; u < u0 + bw; ++u) {
           const int i = v * W + u;
           const float* q = cloud.ptr(v, u);
+          if (!valid_point(q)) ++holes;
           if (taken[std::size_t(i)] || !valid_point(q)) continue;
           const Eigen::Vector3d x(q[0], q[1], q[2]);
           const double dist = patch.normal.dot(x - c);
@@ -314,8 +335,10 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
           sq += dist * dist;
           // seen more obliquely than 75 degrees, a pixel counts as at 75 (grazing far floors)
           const double facing = std::max(0.25, std::abs(patch.normal.dot(x.normalized())));
-          area += (x.z() * a) * (x.z() * a) / facing;
+          block += (x.z() * a) * (x.z() * a) / facing;
+          ++on;
         }
+      if (on) area += block * (1.0 + double(holes) / on);
     }
     if (int(pixels.size()) < o.min_pixels || area < o.min_area) continue;
     {

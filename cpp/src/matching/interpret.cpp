@@ -60,10 +60,13 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
   });
   std::set<int> used;
   std::vector<int> accepted, listed;
+  std::set<std::pair<int, int>> same_place;
+  if (o.one_per_place) same_place.insert(lattice.same_place.begin(), lattice.same_place.end());
   for (int i : order) {
     if (H[i].score < o.list_score) continue;
     bool free = true;
     for (int s : segs[i]) free = free && !used.count(s);
+    for (int j : accepted) free = free && !same_place.count({std::min(i, j), std::max(i, j)});
     if (free && H[i].score >= o.min_score && H[i].posterior >= o.min_posterior) {
       accepted.push_back(i);
       used.insert(segs[i].begin(), segs[i].end());

@@ -420,6 +420,20 @@ Lattice recognize(const knowledge::KnowledgeBase& kb, const std::vector<std::str
                             std::back_inserter(common));
       if (!common.empty()) out.excludes.push_back({int(i), int(j)});
     }
+  for (std::size_t i = 0; i < out.hypotheses.size(); ++i)
+    for (std::size_t j = i + 1; j < out.hypotheses.size(); ++j) {
+      const Hypothesis &a = out.hypotheses[i], &b = out.hypotheses[j];
+      if (a.concept_name != b.concept_name || a.modality != b.modality || !a.children.empty() || !b.children.empty())
+        continue;
+      int like = 0, near = 0;
+      for (std::size_t k = 0; k < a.assignment.size() && k < b.assignment.size(); ++k) {
+        if (a.assignment[k] < 0 || b.assignment[k] < 0) continue;
+        const Segment &p = segments.at(std::size_t(a.assignment[k])), &q = segments.at(std::size_t(b.assignment[k]));
+        ++like;
+        near += (p.origin() - q.origin()).norm() <= 1.25 * std::max(p.extent(), q.extent());
+      }
+      if (like > 1 && near == like) out.same_place.push_back({int(i), int(j)});
+    }
   return out;
 }
 

@@ -368,6 +368,9 @@ class Lattice:
     def hypotheses(self) -> list[Hypothesis]:
         ...
     @property
+    def same_place(self) -> list[tuple[int, int]]:
+        ...
+    @property
     def stats(self) -> MatchStats:
         ...
 def builtin_models() -> KnowledgeBase:

@@ -178,6 +178,7 @@ def interpret(**kwargs) -> mereo._mereo.NodeTemplate:
         open_tops (bool, default true): a region's pixels seen through the opening of an upright cylinder among the parts are explained by it
         min_unknown_pixels (int, default 800, 0..1e+07): least pixels of an unknown object (0: none)
         max_grazing_deg (float, default 75, 0..90): with normals: pixels seen more obliquely join no unknown region
+        one_per_place (bool, default false): hypotheses of one concept at the same place are one object
     """
 def match_models(**kwargs) -> mereo._mereo.NodeTemplate:
     """

@@ -75,6 +75,10 @@ struct InterpretOptions {
   /// With normals: pixels seen at more than this angle to their ray (an object's silhouette,
   /// where it meets what lies behind it without a depth jump) join no unknown region.
   double max_grazing_deg = 75;
+  /// Two hypotheses of one concept at the same place (Lattice::same_place: a chair whose seat and
+  /// back were each found in two pieces) are one object: only the first is accepted. Off for
+  /// small objects that stand close (two mugs touching), on in the room graph.
+  bool one_per_place = false;
 
   /// The options of the report node.
   static const Fields<InterpretOptions>& fields();
@@ -103,6 +107,7 @@ inline const Fields<InterpretOptions>& InterpretOptions::fields() {
             "a region's pixels seen through the opening of an upright cylinder among the parts are explained by it"),
       field("min_unknown_pixels", &O::min_unknown_pixels, 0, 1e7, "least pixels of an unknown object (0: none)"),
       field("max_grazing_deg", &O::max_grazing_deg, 0, 90, "with normals: pixels seen more obliquely join no unknown region"),
+      field("one_per_place", &O::one_per_place, "hypotheses of one concept at the same place are one object"),
   };
   return f;
 }

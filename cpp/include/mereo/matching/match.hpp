@@ -91,6 +91,12 @@ std::vector<Hypothesis> match(const knowledge::Concept& c, const std::vector<Seg
 struct Lattice {
   std::vector<Hypothesis> hypotheses;          ///< by concept (in the order asked), best first
   std::vector<std::pair<int, int>> excludes;   ///< index pairs (i < j) into hypotheses
+  /// Index pairs (i < j) of hypotheses of one concept and part set whose like parts (those both
+  /// assign a segment, two or more) lie each within 1.25 times the larger one's extent (half its
+  /// diagonal) of the other, centre to centre: one object seen in pieces (a chair whose seat and
+  /// back were each found as two patches), not two (InterpretOptions::one_per_place). Two chairs
+  /// side by side stand farther apart; a door beside a wall's strip, one part each, is never one.
+  std::vector<std::pair<int, int>> same_place;
   MatchStats stats;
 };
 

@@ -287,7 +287,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   };
   for (const bool level : {true, false})
   for (const auto& [flatness, seed] : seeds) {
-    if (label[std::size_t(seed)] >= 0 || (!level && tried[std::size_t(seed)]) || (level && band[std::size_t(seed)])) continue;
+    if (label[std::size_t(seed)] >= 0 || tried[std::size_t(seed)] || (level && band[std::size_t(seed)])) continue;
     if (level && (!up || !(o.level_deg > 0) || g.n(seed).dot(upn) < cos_seed)) continue;
     // grown twice: from the seed's normal (up for a level one), then from the plane that gathered
     // (a noisy seed normal stops the first growth early)

@@ -26,6 +26,7 @@ writes the overlays (objects drawn, label boxes in grey, optional ones dashed) t
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import sys
 import time
@@ -100,14 +101,20 @@ def match(objects: list[dict], labels: list[dict], segments: dict, shape):
     return out
 
 
-def overlay(frame, result: dict, labels: list[dict], path: Path) -> None:
-    """eval_real.py's overlay: the result drawn, the label boxes in grey (optional ones dashed)."""
+@functools.cache
+def _eval_real():
+    """eval_real.py beside this file, loaded once."""
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("eval_real", Path(__file__).with_name("eval_real.py"))
-    eval_real = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(eval_real)
-    eval_real.overlay(frame, result, labels, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def overlay(frame, result: dict, labels: list[dict], path: Path) -> None:
+    """eval_real.py's overlay: the result drawn, the label boxes in grey (optional ones dashed)."""
+    _eval_real().overlay(frame, result, labels, path)
 
 
 FURNITURE = ("chair", "table", "door")

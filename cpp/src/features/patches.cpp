@@ -97,10 +97,12 @@ double angular_pixel(const Cloud& cloud) {
 void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool upright, shapes::Patch& patch) {
   constexpr int rim = 12;
   const int W = cloud.cols(), H = cloud.rows();
-  std::vector<int> bottom(std::size_t(W), -1), top(std::size_t(W), H);
+  // each column's lowest and highest pixel, each row's first and last
+  std::vector<int> bottom(std::size_t(W), -1), top(std::size_t(W), H), left(std::size_t(H), W), right(std::size_t(H), -1);
   for (int i : pixels) {
-    const auto u = std::size_t(i % W);
-    bottom[u] = std::max(bottom[u], i / W), top[u] = std::min(top[u], i / W);
+    const int u = i % W, v = i / W;
+    bottom[std::size_t(u)] = std::max(bottom[std::size_t(u)], v), top[std::size_t(u)] = std::min(top[std::size_t(u)], v);
+    left[std::size_t(v)] = std::min(left[std::size_t(v)], u), right[std::size_t(v)] = std::max(right[std::size_t(v)], u);
   }
   int open = 0, closed = 0;
   int hidden[2] = {0, 0}, seen[2] = {0, 0};  // above, below
@@ -138,11 +140,6 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
     }
   }
   // the rows whose first or last pixel lies on the image's side rim: the patch's width is cut there
-  std::vector<int> left(std::size_t(H), W), right(std::size_t(H), -1);
-  for (int i : pixels) {
-    const auto v = std::size_t(i / W);
-    left[v] = std::min(left[v], i % W), right[v] = std::max(right[v], i % W);
-  }
   int rows = 0, cut = 0;
   for (int v = 0; v < H; ++v)
     if (right[std::size_t(v)] >= 0) ++rows, cut += left[std::size_t(v)] < rim || right[std::size_t(v)] >= W - rim;

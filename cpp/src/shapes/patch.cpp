@@ -22,8 +22,8 @@ void Patch::fields(FieldList& out, bool) const {
   out.push_back({"area", area});
   if (std::isfinite(open_below)) out.push_back({"open_below", open_below});
   out.push_back({"top_hidden", top_hidden});
-  out.push_back({"side_cut", side_cut});
   out.push_back({"bottom_hidden", bottom_hidden});
+  out.push_back({"side_cut", side_cut});
 }
 
 bool Patch::set_field(const std::string& key, const FieldValue& v) {

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Furniture on the real room frames of ../shared/data/real (the room graph, graphs/room.yaml),
 judged against the labels a person wrote by looking at each colour image (room_labels.json, beside
-this file: chairs, tables, sofas and doors, a loose box each; far, cut or unclear ones optional);
+this file: chairs, tables, sofas, doors and cabinets, a loose box each; far, cut or unclear ones optional);
 with --rendered N, on N rendered rooms (SceneOptions(room=True), seeds from --first) against their
 exact ground truth.
 
@@ -10,17 +10,17 @@ exact ground truth.
 
 Rendered rooms: an accepted object is the truth object holding most of its pixels (the truth's
 label image), a true positive when of the same model (each truth object once). Recall counts the
-chairs, tables and doors at least 40% visible (visible pixels over the pixels each would cover
+chairs, tables, doors and cabinets at least 40% visible (visible pixels over the pixels each would cover
 with nothing in front of it, times the share of its projected box inside the image), precision
 every accepted object. Size errors of the true positives: a table's top and a chair's seat, a door's
-leaf, its longer and shorter side apart, over those at least 90% visible (a seat seen from behind
+leaf, a cabinet's face, its longer and shorter side apart, over those at least 90% visible (a seat seen from behind
 shows only its front: its shorter side is short).
 
 Each accepted object is matched to the label of its class whose box holds the largest share of
 its pixels (its parts' patches), at least 50%; a label is matched once. A match on a required
 label is a true positive, on an optional one neither true nor false; an object matched to no label
 is a false positive (furniture where there is none). Recall = required labels matched / required
-labels (chairs and tables; sofas and doors apart). Prints one line per frame and the totals,
+labels (chairs and tables; sofas, doors and cabinets apart). Prints one line per frame and the totals,
 writes the overlays (objects drawn, label boxes in grey, optional ones dashed) to --out.
 """
 from __future__ import annotations
@@ -117,8 +117,10 @@ def overlay(frame, result: dict, labels: list[dict], path: Path) -> None:
     _eval_real().overlay(frame, result, labels, path)
 
 
-FURNITURE = ("chair", "table", "door")
-SIZED_PART = {"table": "top", "chair": "seat", "door": "leaf"}
+FURNITURE = ("chair", "table", "door", "cabinet")
+SIZED_PART = {"table": "top", "chair": "seat", "door": "leaf", "cabinet": "face"}
+FOUND_AS = {"cabinet": ("face", "front")}  # parts of other modalities sized the same
+TRUE_PART = {**SIZED_PART, "cabinet": "body"}  # the renderer's part whose face that is
 
 
 def true_sizes(model: str, part: dict) -> tuple[float, float]:
@@ -128,7 +130,8 @@ def true_sizes(model: str, part: dict) -> tuple[float, float]:
 
 
 def found_sizes(obj: dict) -> tuple[float, float] | None:
-    p = obj["parts"].get(SIZED_PART[obj["model"]])
+    roles = FOUND_AS.get(obj["model"], (SIZED_PART[obj["model"]],))
+    p = next((obj["parts"][r] for r in roles if r in obj["parts"]), None)
     return None if p is None else (max(p["size_u"], p["size_v"]), min(p["size_u"], p["size_v"]))
 
 
@@ -213,7 +216,7 @@ def rendered(args) -> int:
             tp[t["model"]] += 1
             if t["model"] == "door":
                 door_kinds[t.get("kind", "")][0] += 1
-            part = next(p for p in t["parts"] if p["role"] == SIZED_PART[t["model"]])
+            part = next(p for p in t["parts"] if p["role"] == TRUE_PART[t["model"]])
             got = found_sizes(o)
             if got is not None and share >= 0.9:
                 want = true_sizes(t["model"], part)
@@ -239,7 +242,7 @@ def rendered(args) -> int:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default="eval_room", help="overlays folder")
+    ap.add_argument("--out", default="out/eval_room", help="overlays folder")
     ap.add_argument("--json", help="write the figures here")
     ap.add_argument("--rendered", type=int, default=0, help="judge N rendered rooms instead of the real frames")
     ap.add_argument("--first", type=int, default=9100, help="the first rendered room's seed")
@@ -258,7 +261,7 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     graph = room_graph(args.set)
     frames = json.loads(LABELS.read_text())["frames"]
-    classes = ["chair", "table", "sofa", "door"]
+    classes = ["chair", "table", "sofa", "door", "cabinet"]
     tp = {c: 0 for c in classes}
     need = {c: 0 for c in classes}
     fp = {c: 0 for c in classes}

@@ -1385,6 +1385,12 @@ TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
   ASSERT_NE(box, nullptr);
   EXPECT_GT(top->open_below, 0.9);
   EXPECT_LT(box->open_below, 0.1);
+  // the box's front: far depth beyond its right end (the floor, the wall), its own side beyond its
+  // left; the door leaf ajar: the wall far behind its nearer edge, close behind its further one
+  const auto* front = near_to(rects[5]);
+  ASSERT_NE(front, nullptr);
+  EXPECT_NEAR(front->stands_out, 0.5, 0.1);
+  EXPECT_TRUE(std::isnan(top->stands_out));  // level: not measured
   // the wall runs out of the image at its sides and top; its foot meets the floor; the door leaf
   // stands whole in view
   const auto* wall = near_to(rects[2]);
@@ -1399,6 +1405,7 @@ TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
   EXPECT_NEAR(door->size_u, 0.9, 0.02);
   EXPECT_NEAR(door->size_v, 2.0, 0.05);  // 4.2 m away: its foot meets the floor, which takes a rim of it
   EXPECT_EQ(door->side_cut, 0.0);
+  EXPECT_NEAR(door->stands_out, 0.5, 0.1);
   EXPECT_FALSE(door->top_hidden);
   EXPECT_FALSE(door->bottom_hidden);
   // the floor and the wall are single patches, not pieces, and the door is apart from the wall

@@ -181,6 +181,34 @@ TEST(Predicates, HiddenEdgesOfAPatchAreLowerAndUpperBounds) {
   EXPECT_DOUBLE_EQ(attribute_membership(hidden, width, ctx), 1.0);
 }
 
+// convex: two faces of a box (a cabinet's front and top, front and side) meet at a convex edge,
+// each one's centre behind the other's plane; a door leaf standing ajar out of its wall meets the
+// wall at a concave one, and two faces side by side in one plane are neither.
+TEST(Predicates, ConvexIsTwoFacesOfABox) {
+  const auto patch = [](Eigen::Vector3d c, Eigen::Vector3d n, Eigen::Vector3d u, double su, double sv) {
+    shapes::Patch p;
+    p.point = c, p.normal = n, p.u_axis = u, p.size_u = su, p.size_v = sv;
+    return Segment{p};
+  };
+  Context ctx;
+  ctx.up = -Eigen::Vector3d::UnitY();
+  // the camera at the origin looking along +z; a box 0.6 wide (x from 0.7 to 1.3), 0.4 deep, its
+  // front at z = 3 and its top 0.5 m below the eye; the patches' normals face the camera
+  const Segment front = patch({1, 0.9, 3}, -Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), 0.6, 0.8);
+  const Segment top = patch({1, 0.5, 3.2}, -Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 0.6, 0.4);
+  const Segment side = patch({0.7, 0.9, 3.2}, -Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(), 0.4, 0.8);
+  Constraint convex{"convex", {"a", "b"}, {{"margin", 0.05}}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(convex, {&front, &top}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(convex, {&side, &front}, ctx), 1.0);
+  // a wall at z = 4 and a leaf ajar before it, hinged on it: the leaf's centre is in front
+  const Eigen::Vector3d n = Eigen::Vector3d(-1, 0, -1).normalized();
+  const Segment wall = patch({0, 0, 4}, -Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), 4, 2.5);
+  const Segment leaf = patch({1 - 0.3, 0, 4 - 0.3}, n, Eigen::Vector3d(1, 0, -1).normalized(), 0.85, 2);
+  EXPECT_DOUBLE_EQ(evaluate(convex, {&leaf, &wall}, ctx), 0.0);
+  const Segment beside = patch({1.6, 0.9, 3}, -Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), 0.6, 0.8);
+  EXPECT_DOUBLE_EQ(evaluate(convex, {&front, &beside}, ctx), 0.0);
+}
+
 // rest_gap: an axial body's lowest point above the support, from the geometry of a finite
 // cylinder (its ends' rims) against a table 0.8 m below a camera looking along it (up = -y).
 TEST(Predicates, RestGapIsTheLowestPointAboveTheSupport) {

@@ -86,17 +86,47 @@ double angular_pixel(const Cloud& cloud) {
   return q > 0 ? q : 1.0 / 525;
 }
 
+/// What lies beyond a patch's edge at pixel (v, u), outwards along (dv, du) for at most `reach`
+/// pixels: +1 where the depth steps behind by more than `margin`, -1 where it steps in front, 0
+/// where another surface meets the patch's plane without a step (a floor below a wall's foot, a
+/// box's side at its front's edge) or nothing is found. The plane (normal n through c) runs on for
+/// the rim the normals' window leaves (points within `off` of it); a step is measured between
+/// pixels two apart, as the depth filter spreads it over a few.
+int depth_step(const Cloud& cloud, int v, int u, int dv, int du, double margin, int reach, const Eigen::Vector3d& n,
+               const Eigen::Vector3d& c, double off) {
+  const int W = cloud.cols(), H = cloud.rows();
+  const float* older = cloud.ptr(v, u);  // the valid pixel two back (one back at first)
+  const float* newer = nullptr;
+  for (int k = 1; k <= reach; ++k) {
+    const int vk = v + k * dv, uk = u + k * du;
+    if (vk < 0 || vk >= H || uk < 0 || uk >= W) return 0;
+    const float* q = cloud.ptr(vk, uk);
+    if (!valid_point(q)) continue;
+    if (std::abs(q[2] - older[2]) > margin) return q[2] > older[2] ? 1 : -1;
+    if (std::abs(n.dot(Eigen::Vector3d(q[0], q[1], q[2]) - c)) > off) return 0;
+    if (newer) older = newer;
+    newer = q;
+  }
+  return 0;
+}
+
 /// What a patch's pixels border on, down and up its image columns (cameras held about level) from
 /// each column's lowest and highest pixel. open_below: the share of what is seen 0.12-0.3 m below
 /// the lower edge that lies far behind it (open space: legs, the floor under a table) rather than
 /// at its depth (a box's front under its top); what lies in front (an occluder) does not count;
 /// NaN with fewer than 20 such pixels. top_hidden, bottom_hidden: along most of the edge, the image
 /// ends there (within 12 pixels of its border: the normals' window leaves a rim of bad normals
-/// that no patch takes) or the first depth a few pixels beyond it is nearer (an occluder in front).
-/// side_cut: the share of its rows that end on the image's left or right rim.
-void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool upright, shapes::Patch& patch) {
+/// that no patch takes) or the depth steps in front beyond it (depth_step: an occluder).
+/// side_cut: the share of its rows that end on the image's left or right rim. stands_out (upright
+/// patches): the share of its rows' ends off the rim beyond which the depth steps behind (a front
+/// before its wall) rather than in front (an occluder) or not at all (the wall it is part of, a
+/// door's frame, its own side at a convex corner); NaN with fewer than 10 such ends. Points within
+/// half the growth's tolerance of the plane (through c) are its own.
+void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool upright, const Eigen::Vector3d& c,
+           double epsilon, shapes::Patch& patch) {
   constexpr int rim = 12;
   const int W = cloud.cols(), H = cloud.rows();
+  const auto off = [&](double z) { return 0.5 * epsilon * std::max(1.0, z * z); };
   // each column's lowest and highest pixel, each row's first and last
   std::vector<int> bottom(std::size_t(W), -1), top(std::size_t(W), H), left(std::size_t(H), W), right(std::size_t(H), -1);
   for (int i : pixels) {
@@ -128,22 +158,26 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
         ++seen[side], ++hidden[side];
         continue;
       }
-      for (int k = 2; k <= 5; ++k) {
-        const int v = edge + k * dir;
-        if (v < 0 || v >= H) break;
-        const float* q = cloud.ptr(v, u);
-        if (!valid_point(q)) continue;
-        ++seen[side];
-        hidden[side] += q[2] < ze - std::max(0.1, 0.03 * ze);
-        break;
-      }
+      ++seen[side];
+      hidden[side] += depth_step(cloud, edge, u, dir, 0, std::max(0.1, 0.03 * ze), rim, patch.normal, c, off(ze)) < 0;
     }
   }
   // the rows whose first or last pixel lies on the image's side rim: the patch's width is cut there
-  int rows = 0, cut = 0;
-  for (int v = 0; v < H; ++v)
-    if (right[std::size_t(v)] >= 0) ++rows, cut += left[std::size_t(v)] < rim || right[std::size_t(v)] >= W - rim;
+  int rows = 0, cut = 0, ends = 0, out = 0;
+  for (int v = 0; v < H; ++v) {
+    const int l = left[std::size_t(v)], r = right[std::size_t(v)];
+    if (r < 0) continue;
+    ++rows, cut += l < rim || r >= W - rim;
+    if (!upright) continue;
+    for (const int side : {0, 1}) {
+      const int edge = side == 0 ? l : r, dir = side == 0 ? -1 : 1;
+      if (side == 0 ? edge < rim : edge >= W - rim) continue;
+      const double ze = cloud.ptr(v, edge)[2];
+      ++ends, out += depth_step(cloud, v, edge, 0, dir, std::max(0.1, 0.03 * ze), rim, patch.normal, c, off(ze)) > 0;
+    }
+  }
   patch.side_cut = rows ? double(cut) / rows : 0.0;
+  patch.stands_out = ends >= 10 ? double(out) / ends : std::nan("");
   patch.open_below = open + closed >= 20 ? double(open) / (open + closed) : std::nan("");
   patch.top_hidden = seen[0] > 0 && 2 * hidden[0] >= seen[0];
   patch.bottom_hidden = seen[1] > 0 && 2 * hidden[1] >= seen[1];
@@ -365,7 +399,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       const Eigen::Vector2d m = es.eigenvectors().col(1);
       patch.u_axis = (m.x() * e0 + m.y() * e1).normalized();
     }
-    if (up) edges(cloud, pixels, a, upright, patch);
+    if (up) edges(cloud, pixels, a, upright, c, o.epsilon, patch);
     const Eigen::Vector3d v_axis = patch.normal.cross(patch.u_axis).normalized();
     std::vector<double> su, sv;
     su.reserve(pts.size()), sv.reserve(pts.size());

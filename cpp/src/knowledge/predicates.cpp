@@ -114,6 +114,12 @@ double on(const Segment& a, const Segment& b, const Constraint& c, const Context
   const double reach = b.extent();
   return std::min(contact, falling(dh.norm(), reach, reach + tol));
 }
+/// Two faces of one box: each one's centre lies behind the other's surface (patches' normals face
+/// the camera), as at a convex edge; a leaf standing out of its wall (a concave corner) is not.
+double convex(const Segment& a, const Segment& b, const Constraint& c) {
+  const double margin = param(c, "margin", 0.02);
+  return std::min(rising(-a.signed_distance(b.origin()), 0.0, margin), rising(-b.signed_distance(a.origin()), 0.0, margin));
+}
 double same_size(const Segment& a, const Segment& b, const Constraint& c) {
   const double ratio = param(c, "ratio", 0.8);
   const double sa = a.size(), sb = b.size();
@@ -240,6 +246,7 @@ const std::map<std::string, std::vector<std::string>>& predicate_table() {
       {"radial", {"tolerance_deg"}},
       {"above", {"margin"}},
       {"on", {"tolerance"}},
+      {"convex", {"margin"}},
       {"same_size", {"ratio"}},
       {"distance", {"min", "max", "margin"}},
       {"parallel_px", {"tolerance_deg"}},
@@ -384,6 +391,8 @@ CompiledConstraint compile(const Constraint& c) {
     };
   else if (p == "above") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return above(a, b, k, x); };
   else if (p == "on") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return on(a, b, k, x); };
+  else if (p == "convex")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return convex(a, b, k); };
   else if (p == "same_size")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return same_size(a, b, k); };
   else if (p == "distance")

@@ -19,6 +19,9 @@
 //  - above(a, b; margin = 0.01 m): a's centre higher than b's along `up`, ramp over `margin`;
 //  - on(a, b; tolerance = 0.01 m): a's lowest point at b's top (along `up`), and a's centre over
 //    b (horizontal distance within b's extent);
+//  - convex(a, b; margin = 0.02 m): each one's centre lies behind the other's surface (negative
+//    signed distance), ramp over `margin`: two faces of a box at a convex edge, not a door leaf
+//    standing out of its wall;
 //  - same_size(a, b; ratio = 0.8): min/max of the sizes (radius, or height for lines) >= ratio
 //    gives 1, falling to 0 at ratio - 0.2;
 //  - distance(a, b; min = 0, max, margin = 0.01 m): centre distance within [min, max].

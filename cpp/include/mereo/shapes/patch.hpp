@@ -11,7 +11,12 @@
 // edge runs out of the image or behind something nearer along most of its length: it may reach
 // higher or lower than seen; knowledge::attribute_membership scores its `top`, `bottom` so),
 // `side_cut` (the share of its rows that run out of the image at its left or right side: its
-// width there is not its own). Not
+// width there is not its own), `stands_out` (an upright patch's: the share of its rows' left and
+// right ends, inside the image, beyond which the depth lies far behind: 1 for a cabinet's front
+// before its wall, 0 for a piece of wall or a closed door in it; NaN unmeasured). Attributes:
+// `length`, `width` (the rectangle's longer and shorter side), `area`, `open_below`, `side_cut`,
+// `stands_out`, `top_hidden` and `bottom_hidden` (0 or 1), `view_deg` (the angle between its
+// normal and the line of sight to its centre, in the frame it was found in: 0 seen square on). Not
 // detected by RANSAC: found by features::planar_patches; models name it (graphs/models/room.yaml).
 #pragma once
 
@@ -25,7 +30,8 @@ namespace mereo::shapes {
 struct Patch : Undetected<Patch> {
   static constexpr const char* name = "patch";
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
-  static constexpr std::array<const char*, 5> attributes = {"length", "width", "area", "open_below", "side_cut"};  ///< names of attribute()
+  static constexpr std::array<const char*, 9> attributes = {
+      "length", "width", "area", "open_below", "side_cut", "stands_out", "top_hidden", "bottom_hidden", "view_deg"};  ///< names of attribute()
 
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
@@ -34,6 +40,7 @@ struct Patch : Undetected<Patch> {
   double open_below = std::nan("");
   bool top_hidden = false, bottom_hidden = false;  ///< an upright patch's upper, lower edge hidden
   double side_cut = 0.0;                            ///< the share of its rows cut by the image's sides
+  double stands_out = std::nan("");                 ///< the share of its sides before far depth
 
   /// The in-plane axis across u_axis.
   Eigen::Vector3d v_axis() const { return normal.normalized().cross(u_axis).normalized(); }

@@ -166,6 +166,7 @@ TEST(Predicates, HiddenEdgesOfAPatchAreLowerAndUpperBounds) {
   const Segment seen{p};
   EXPECT_NEAR(attribute_value(seen, "top", ctx), 1.7, 1e-12);
   EXPECT_NEAR(attribute_value(seen, "bottom", ctx), 0.2, 1e-12);
+  EXPECT_NEAR(attribute_value(seen, "span_up", ctx), 1.5, 1e-12);  // its height seen, not its longer side
   EXPECT_DOUBLE_EQ(attribute_membership(seen, top, ctx), 0.0);
   EXPECT_DOUBLE_EQ(attribute_membership(seen, bottom, ctx), 0.0);
   p.top_hidden = p.bottom_hidden = true;

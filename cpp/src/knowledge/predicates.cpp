@@ -280,7 +280,7 @@ const std::vector<std::string>& attribute_names() {
   static const std::vector<std::string> names = [] {
     auto n = shape_attribute_names();
     for (const char* g : {"tilt_deg", "rest_tilt_deg", "elevation", "rest_gap", "inliers", "residual", "hue", "inward",
-                          "closed_end", "open_end", "bend", "out_of_round", "rise", "top", "bottom"})
+                          "closed_end", "open_end", "bend", "out_of_round", "rise", "top", "bottom", "span_up"})
       n.push_back(g);
     return n;
   }();
@@ -332,6 +332,7 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
     const double centre = up.dot(s.origin()) + ctx.support_d, half = s.half_extent_along(up);
     return name == "top" ? centre + half : centre - half;
   }
+  if (name == "span_up") return 2 * s.half_extent_along(ctx.up.normalized());
   if (name == "inliers") return double(s.inliers);
   if (name == "residual") return s.residual;
   if (name == "hue") return s.hue;

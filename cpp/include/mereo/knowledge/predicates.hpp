@@ -70,7 +70,9 @@ const std::vector<std::string>& predicate_params(const std::string& name);
 /// along up, metres), rest_gap (an axial body's lowest point above the support surface, metres:
 /// negative where it would pass through it; +infinity without a support, NaN for a body without
 /// radius and height), inliers, residual, hue
-/// (degrees), inward (1 for a surface seen from inside: a mug's inner wall).
+/// (degrees), inward (1 for a surface seen from inside: a mug's inner wall), top and bottom (its
+/// highest and lowest point above the support, metres), span_up (its extent along up: a door
+/// leaf's height seen, not the longer side of a wide strip of wall).
 const std::vector<std::string>& attribute_names();
 bool is_attribute(const std::string& name);
 double attribute_value(const Segment& s, const std::string& name, const Context& context);

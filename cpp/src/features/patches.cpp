@@ -183,6 +183,74 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
   patch.bottom_hidden = seen[1] > 0 && 2 * hidden[1] >= seen[1];
 }
 
+/// A region grown, before it is described: its plane (normal through c), pixels, seen area and
+/// the sum of its pixels' squared distances to the plane.
+struct Found {
+  Eigen::Vector3d normal, c;
+  std::vector<int> pixels;
+  double area, sq;
+  bool takes_rim;  ///< upright with gravity known, or any without it
+};
+
+/// PatchOptions::rim: rings of free pixels beside the patches, o.rim of them, each pixel joining
+/// the neighbouring (4-connected) patch whose plane lies nearest to it, within half the growth's
+/// tolerance and without a depth jump from that neighbour. Ring by ring, so that two patches that
+/// meet (a wall and the floor at its foot) share their rims by distance, not by order.
+void give_back_the_rim(const Cloud& cloud, const PatchOptions& o, double a, std::vector<int>& owner,
+                       std::vector<Found>& found) {
+  const int W = cloud.cols(), H = cloud.rows();
+  std::vector<std::pair<int, int>> joins;  // (pixel, patch) of one ring
+  std::vector<int> frontier, next;
+  for (int i = 0; i < W * H; ++i)
+    if (owner[std::size_t(i)] >= 0) frontier.push_back(i);
+  std::vector<std::uint8_t> queued(std::size_t(W) * std::size_t(H), 0);
+  for (int ring = 0; ring < o.rim && !frontier.empty(); ++ring) {
+    joins.clear();
+    // the free neighbours of the last ring
+    next.clear();
+    for (int i : frontier) {
+      const int u = i % W, v = i / W;
+      for (const auto& d : {std::array<int, 2>{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int uu = u + d[0], vv = v + d[1];
+        if (uu < 0 || uu >= W || vv < 0 || vv >= H) continue;
+        const int j = vv * W + uu;
+        if (owner[std::size_t(j)] >= 0 || queued[std::size_t(j)] || !valid_point(cloud.ptr(vv, uu))) continue;
+        queued[std::size_t(j)] = 1;
+        next.push_back(j);
+      }
+    }
+    for (int j : next) {
+      queued[std::size_t(j)] = 0;
+      const int u = j % W, v = j / W;
+      const float* q = cloud.ptr(v, u);
+      const Eigen::Vector3d x(q[0], q[1], q[2]);
+      const double off = 0.5 * o.epsilon * std::max(1.0, x.z() * x.z());
+      int best = -1;
+      double best_dist = off;
+      for (const auto& d : {std::array<int, 2>{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const int uu = u + d[0], vv = v + d[1];
+        if (uu < 0 || uu >= W || vv < 0 || vv >= H) continue;
+        const int k = owner[std::size_t(vv * W + uu)];
+        if (k < 0 || !found[std::size_t(k)].takes_rim || std::abs(cloud.ptr(vv, uu)[2] - q[2]) > o.depth_jump * q[2]) continue;
+        const double dist = std::abs(found[std::size_t(k)].normal.dot(x - found[std::size_t(k)].c));
+        if (dist <= best_dist) best = k, best_dist = dist;
+      }
+      if (best >= 0) joins.emplace_back(j, best);
+    }
+    frontier.clear();
+    for (const auto& [j, k] : joins) {
+      owner[std::size_t(j)] = k;
+      Found& f = found[std::size_t(k)];
+      const float* q = cloud.data() + 3 * std::size_t(j);
+      const Eigen::Vector3d x(q[0], q[1], q[2]);
+      const double dist = f.normal.dot(x - f.c);
+      const double facing = std::max(0.25, std::abs(f.normal.dot(x.normalized())));
+      f.pixels.push_back(j), f.sq += dist * dist, f.area += (x.z() * a) * (x.z() * a) / facing;
+      frontier.push_back(j);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals, const PatchOptions& o,
@@ -198,7 +266,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   const int cells = g.gw * g.gh;
   const double cos_max = std::cos(o.max_angle_deg * detail::kDeg);
   const auto tol = [&](double z) { return o.epsilon * std::max(1.0, z * z); };
-  std::vector<int> label(std::size_t(cells), -1);  // the patch of a cell; -1 free
+  std::vector<int> label(std::size_t(cells), -1);  // 1: a cell in a region; -1 free
   std::vector<std::uint8_t> valid(static_cast<std::size_t>(cells));
   for (int k = 0; k < cells; ++k) valid[std::size_t(k)] = g.valid(k);
 
@@ -299,7 +367,8 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
     seeds.emplace_back(-float(flat), k);
   }
   std::stable_sort(seeds.begin(), seeds.end());
-  std::vector<Segment> out;
+  std::vector<Found> found;
+  std::vector<int> owner(std::size_t(cloud.rows()) * std::size_t(cloud.cols()), -1);  // a pixel's patch
   std::vector<std::uint8_t> tried(std::size_t(cells), 0), band(std::size_t(cells), 0);
   // a region's thinner side across up: sqrt(12) times the smaller spread of its cells (a rectangle's)
   const auto level_width = [&](const std::vector<int>& region) {
@@ -336,11 +405,9 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       for (int k : region) band[std::size_t(k)] = 1;  // seeds no other level region
       continue;
     }
-    const int id = int(out.size());
-    for (int k : region) label[std::size_t(k)] = id;
+    for (int k : region) label[std::size_t(k)] = 1;
 
-    shapes::Patch patch;
-    patch.normal = level ? upn : sums.normal(n1);
+    const Eigen::Vector3d normal = level ? upn : sums.normal(n1);
     const Eigen::Vector3d c = sums.centroid();
     // every pixel of the region's blocks on its plane; the seen area: theirs and that of the holes
     // in depth in their blocks (a surface whose depth is sparse covers its blocks all the same)
@@ -359,13 +426,13 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
           if (!valid_point(q)) ++holes;
           if (taken[std::size_t(i)] || !valid_point(q)) continue;
           const Eigen::Vector3d x(q[0], q[1], q[2]);
-          const double dist = patch.normal.dot(x - c);
+          const double dist = normal.dot(x - c);
           if (!on_plane(x, dist, level)) continue;
           taken[std::size_t(i)] = 1;
           pixels.push_back(i);
           sq += dist * dist;
           // seen more obliquely than 75 degrees, a pixel counts as at 75 (grazing far floors)
-          const double facing = std::max(0.25, std::abs(patch.normal.dot(x.normalized())));
+          const double facing = std::max(0.25, std::abs(normal.dot(x.normalized())));
           block += (x.z() * a) * (x.z() * a) / facing;
           ++on;
         }
@@ -378,6 +445,18 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       for (int i : pixels) z.push_back(cloud.data()[3 * std::size_t(i) + 2]);
       if (detail::quantile(z, 0.5) > o.max_depth) continue;
     }
+    for (int i : pixels) owner[std::size_t(i)] = int(found.size());
+    const bool takes_rim = !up || std::abs(normal.dot(upn)) <= std::sin(o.upright_deg * detail::kDeg);
+    found.push_back({normal, c, std::move(pixels), area, sq, takes_rim});
+  }
+  if (o.rim > 0) give_back_the_rim(cloud, o, a, owner, found);
+  std::vector<Segment> out;
+  for (Found& f : found) {
+    shapes::Patch patch;
+    patch.normal = f.normal;
+    const Eigen::Vector3d& c = f.c;
+    std::vector<int>& pixels = f.pixels;
+    const double area = f.area, sq = f.sq;
     // the rectangle: upright patches along gravity, the others along their points' main direction
     std::vector<Eigen::Vector3d> pts;
     pts.reserve(pixels.size());

@@ -97,6 +97,7 @@ def planar_patches(cloud: typing.Any, normals: typing.Any, up: typing.Any = None
         min_pixels (int, default 300, 1..1e+07): fewest pixels of a patch
         upright_deg (float, default 30, 0..90): with gravity: patches this close to upright get a horizontal u_axis
         max_depth (float, default 6, 0.1..100): patches whose median depth is beyond this are none, metres
+        rim (int, default 8, 0..64): pixels beside a patch, this far out, join the nearest plane (the normals' rim); 0: off
         colour_edge (float, default 0.15, 0..2): with colour: growth does not cross a colour step larger than this (0: off)
         level_deg (float, default 30, 0..90): with gravity: level patches take cells whose normals lean at most this from up
         level_min_width (float, default 0.1, 0..10): level regions narrower than this are bands across upright surfaces, metres

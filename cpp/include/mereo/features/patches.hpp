@@ -43,6 +43,11 @@ struct PatchOptions {
   /// Patches whose points are mostly farther than this (metres, along the optical axis) are
   /// none: beyond it a depth camera's surfaces break into pieces whose sizes mean little.
   double max_depth = 6.0;
+  /// The rim that the normals' window leaves at a patch's edges (its normals bent by what lies
+  /// beyond) is given back to the patches, this many pixels out: a pixel beside a patch joins the
+  /// one whose plane lies nearest to it, within half the growth's tolerance, without a depth jump.
+  /// A door's or a cabinet's sides come out 5-6 cm short each at 4-5 m without it. 0: off.
+  int rim = 8;
 
   static const Fields<PatchOptions>& fields();
 };
@@ -58,6 +63,7 @@ inline const Fields<PatchOptions>& PatchOptions::fields() {
       field("min_pixels", &O::min_pixels, 1, 1e7, "fewest pixels of a patch"),
       field("upright_deg", &O::upright_deg, 0, 90, "with gravity: patches this close to upright get a horizontal u_axis"),
       field("max_depth", &O::max_depth, 0.1, 100, "patches whose median depth is beyond this are none, metres"),
+      field("rim", &O::rim, 0, 64, "pixels beside a patch, this far out, join the nearest plane (the normals' rim); 0: off"),
       field("colour_edge", &O::colour_edge, 0, 2, "with colour: growth does not cross a colour step larger than this (0: off)"),
       field("level_deg", &O::level_deg, 0, 90, "with gravity: level patches take cells whose normals lean at most this from up"),
       field("level_min_width", &O::level_min_width, 0, 10, "level regions narrower than this are bands across upright surfaces, metres"),

@@ -192,8 +192,8 @@ struct Found {
   bool takes_rim;  ///< upright with gravity known, or any without it
 };
 
-/// PatchOptions::rim: rings of free pixels beside the patches, o.rim of them, each pixel joining
-/// the neighbouring (4-connected) patch whose plane lies nearest to it, within half the growth's
+/// PatchOptions::rim: rings of free pixels beside the patches that take a rim, o.rim of them, each
+/// pixel joining the neighbouring (4-connected) one whose plane lies nearest to it, within half the growth's
 /// tolerance and without a depth jump from that neighbour. Ring by ring, so that two patches that
 /// meet (a wall and the floor at its foot) share their rims by distance, not by order.
 void give_back_the_rim(const Cloud& cloud, const PatchOptions& o, double a, std::vector<int>& owner,
@@ -202,7 +202,7 @@ void give_back_the_rim(const Cloud& cloud, const PatchOptions& o, double a, std:
   std::vector<std::pair<int, int>> joins;  // (pixel, patch) of one ring
   std::vector<int> frontier, next;
   for (int i = 0; i < W * H; ++i)
-    if (owner[std::size_t(i)] >= 0) frontier.push_back(i);
+    if (owner[std::size_t(i)] >= 0 && found[std::size_t(owner[std::size_t(i)])].takes_rim) frontier.push_back(i);
   std::vector<std::uint8_t> queued(std::size_t(W) * std::size_t(H), 0);
   for (int ring = 0; ring < o.rim && !frontier.empty(); ++ring) {
     joins.clear();

@@ -44,9 +44,11 @@ struct PatchOptions {
   /// none: beyond it a depth camera's surfaces break into pieces whose sizes mean little.
   double max_depth = 6.0;
   /// The rim that the normals' window leaves at a patch's edges (its normals bent by what lies
-  /// beyond) is given back to the patches, this many pixels out: a pixel beside a patch joins the
-  /// one whose plane lies nearest to it, within half the growth's tolerance, without a depth jump.
-  /// A door's or a cabinet's sides come out 5-6 cm short each at 4-5 m without it. 0: off.
+  /// beyond) is given back to upright patches (to all without gravity), this many pixels out: a
+  /// pixel beside one joins the one whose plane lies nearest to it, within half the growth's
+  /// tolerance, without a depth jump. A door's or a cabinet's sides come out 5-6 cm short each at
+  /// 4-5 m without it. Level patches keep their sizes: given their rims, the pieces of a cluttered
+  /// desk grew into tables of their own (TUM). 0: off.
   int rim = 8;
 
   static const Fields<PatchOptions>& fields();

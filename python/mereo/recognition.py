@@ -155,11 +155,14 @@ def segment_from_dict(d: dict) -> Segment:
 def draw_result(frame, result: dict, accepted_only: bool = True) -> np.ndarray:
     """The frame's colour image (its depth in false colour when it has none) with the recognized
     objects drawn (part outlines, model, score), and the unknown objects (regions no model
-    explains) as grey boxes."""
+    explains) as grey boxes. A tracked object not seen in this frame (`"in_view": false`) is not
+    drawn: its place is a prediction, often outside the image."""
     objects, boxes = [], []
     for o in result["objects"]:
         if "region" in o:
             boxes.append(("unknown", tuple(o["region"]["box"])))
+        elif o.get("in_view") is False:
+            continue
         elif o["accepted"] or not accepted_only:
             objects.append((f'{o["model"]} {o["score"]:.2f}', [segment_from_dict(p) for p in o["parts"].values()]))
     color = frame.color

@@ -134,6 +134,9 @@ def test_overlay_of_a_frame_without_colour_draws_on_its_depth():
     plain = mereo.recognition.draw_result(depth_only, {"objects": []})
     assert len(np.unique(plain.reshape(-1, 3), axis=0)) > 20  # the depth in false colour, not black
     assert (np.abs(picture.astype(int) - plain).max(axis=2) > 60).sum() > 500  # the mug's outline
+    # a tracked object not seen in this frame is not drawn (its predicted place may lie off the image)
+    unseen = {"objects": [dict(o, in_view=False) for o in result["objects"] if "region" not in o]}
+    assert np.array_equal(mereo.recognition.draw_result(depth_only, unseen), plain)
 
 
 def test_cli_bad_input_is_one_clear_line(tmp_path, capsys):

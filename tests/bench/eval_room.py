@@ -119,9 +119,10 @@ def overlay(frame, result: dict, labels: list[dict], path: Path) -> None:
 
 FURNITURE = ("chair", "table", "door", "cabinet")
 NOT_FURNITURE = ("box",)  # room.yaml's boxes on stands and desks: neither judged nor false
-SIZED_PART = {"table": "top", "chair": "seat", "door": "leaf", "cabinet": "face"}
-FOUND_AS = {"cabinet": ("face", "front")}  # parts of other modalities sized the same
-TRUE_PART = {**SIZED_PART, "cabinet": "body"}  # the renderer's part whose face that is
+# the part whose size is judged: as found (any of these roles: a cabinet's modalities name its
+# face differently) and in the renderer's truth
+SIZED_PARTS = {"table": ("top",), "chair": ("seat",), "door": ("leaf",), "cabinet": ("face", "front")}
+TRUE_PART = {"table": "top", "chair": "seat", "door": "leaf", "cabinet": "body"}
 
 
 def true_sizes(model: str, part: dict) -> tuple[float, float]:
@@ -131,8 +132,7 @@ def true_sizes(model: str, part: dict) -> tuple[float, float]:
 
 
 def found_sizes(obj: dict) -> tuple[float, float] | None:
-    roles = FOUND_AS.get(obj["model"], (SIZED_PART[obj["model"]],))
-    p = next((obj["parts"][r] for r in roles if r in obj["parts"]), None)
+    p = next((obj["parts"][r] for r in SIZED_PARTS[obj["model"]] if r in obj["parts"]), None)
     return None if p is None else (max(p["size_u"], p["size_v"]), min(p["size_u"], p["size_v"]))
 
 

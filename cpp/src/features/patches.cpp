@@ -86,15 +86,30 @@ double angular_pixel(const Cloud& cloud) {
   return q > 0 ? q : 1.0 / 525;
 }
 
+/// A point's distance to a patch's plane at depth z that still counts as on it
+/// (PatchOptions::epsilon at 1 m, growing with z^2).
+double plane_tolerance(double epsilon, double z) { return epsilon * std::max(1.0, z * z); }
+
+/// A depth difference at depth z that parts what lies behind from what lies at it (10 cm, or 3%).
+double far_step(double z) { return std::max(0.1, 0.03 * z); }
+
+/// The footprint on its plane (normal n) of the pixel at x; `a` is a pixel's angle. Seen more
+/// obliquely than 75 degrees, a pixel counts as at 75 (grazing far floors).
+double footprint(const Eigen::Vector3d& x, const Eigen::Vector3d& n, double a) {
+  const double facing = std::max(0.25, std::abs(n.dot(x.normalized())));
+  return (x.z() * a) * (x.z() * a) / facing;
+}
+
 /// What lies beyond a patch's edge at pixel (v, u), outwards along (dv, du) for at most `reach`
-/// pixels: +1 where the depth steps behind by more than `margin`, -1 where it steps in front, 0
+/// pixels: +1 where the depth steps behind by more than far_step, -1 where it steps in front, 0
 /// where another surface meets the patch's plane without a step (a floor below a wall's foot, a
 /// box's side at its front's edge) or nothing is found. The plane (normal n through c) runs on for
-/// the rim the normals' window leaves (points within `off` of it); a step is measured between
-/// pixels two apart, as the depth filter spreads it over a few.
-int depth_step(const Cloud& cloud, int v, int u, int dv, int du, double margin, int reach, const Eigen::Vector3d& n,
-               const Eigen::Vector3d& c, double off) {
+/// the rim the normals' window leaves (points within half its tolerance); a step is measured
+/// between pixels two apart, as the depth filter spreads it over a few.
+int depth_step(const Cloud& cloud, int v, int u, int dv, int du, int reach, const Eigen::Vector3d& n,
+               const Eigen::Vector3d& c, double epsilon) {
   const int W = cloud.cols(), H = cloud.rows();
+  const double z = cloud.ptr(v, u)[2], margin = far_step(z), off = 0.5 * plane_tolerance(epsilon, z);
   const float* older = cloud.ptr(v, u);  // the valid pixel two back (one back at first)
   const float* newer = nullptr;
   for (int k = 1; k <= reach; ++k) {
@@ -126,7 +141,6 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
            double epsilon, shapes::Patch& patch) {
   constexpr int rim = 12;
   const int W = cloud.cols(), H = cloud.rows();
-  const auto off = [&](double z) { return 0.5 * epsilon * std::max(1.0, z * z); };
   // each column's lowest and highest pixel, each row's first and last
   std::vector<int> bottom(std::size_t(W), -1), top(std::size_t(W), H), left(std::size_t(H), W), right(std::size_t(H), -1);
   for (int i : pixels) {
@@ -140,7 +154,7 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
     if (bottom[std::size_t(u)] < 0) continue;
     const int vb = bottom[std::size_t(u)], vt = top[std::size_t(u)];
     const double z = cloud.ptr(vb, u)[2], s = z * a;  // a pixel's size there
-    const double margin = std::max(0.1, 0.03 * z);
+    const double margin = far_step(z);
     const int v0 = vb + int(std::ceil(0.12 / s)), v1 = vb + int(std::ceil(0.3 / s));
     for (int v = v0; v <= std::min(v1, H - 1); ++v) {
       const float* q = cloud.ptr(v, u);
@@ -149,17 +163,15 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
       else if (q[2] >= z - margin) ++closed;
     }
     if (!upright) continue;
-    // the first depth 2-5 pixels beyond each edge (a floor or a ceiling met at a grazing angle
-    // comes nearer by less than the margin over so few rows)
+    // what lies beyond each edge: an occluder in front hides it
     for (const int side : {0, 1}) {
       const int edge = side == 0 ? vt : vb, dir = side == 0 ? -1 : 1;
-      const double ze = cloud.ptr(edge, u)[2];
       if (side == 0 ? edge < rim : edge >= H - rim) {
         ++seen[side], ++hidden[side];
         continue;
       }
       ++seen[side];
-      hidden[side] += depth_step(cloud, edge, u, dir, 0, std::max(0.1, 0.03 * ze), rim, patch.normal, c, off(ze)) < 0;
+      hidden[side] += depth_step(cloud, edge, u, dir, 0, rim, patch.normal, c, epsilon) < 0;
     }
   }
   // the rows whose first or last pixel lies on the image's side rim: the patch's width is cut there
@@ -172,8 +184,7 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
     for (const int side : {0, 1}) {
       const int edge = side == 0 ? l : r, dir = side == 0 ? -1 : 1;
       if (side == 0 ? edge < rim : edge >= W - rim) continue;
-      const double ze = cloud.ptr(v, edge)[2];
-      ++ends, out += depth_step(cloud, v, edge, 0, dir, std::max(0.1, 0.03 * ze), rim, patch.normal, c, off(ze)) > 0;
+      ++ends, out += depth_step(cloud, v, edge, 0, dir, rim, patch.normal, c, epsilon) > 0;
     }
   }
   patch.side_cut = rows ? double(cut) / rows : 0.0;
@@ -224,9 +235,8 @@ void give_back_the_rim(const Cloud& cloud, const PatchOptions& o, double a, std:
       const int u = j % W, v = j / W;
       const float* q = cloud.ptr(v, u);
       const Eigen::Vector3d x(q[0], q[1], q[2]);
-      const double off = 0.5 * o.epsilon * std::max(1.0, x.z() * x.z());
       int best = -1;
-      double best_dist = off;
+      double best_dist = 0.5 * plane_tolerance(o.epsilon, x.z());
       for (const auto& d : {std::array<int, 2>{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
         const int uu = u + d[0], vv = v + d[1];
         if (uu < 0 || uu >= W || vv < 0 || vv >= H) continue;
@@ -244,8 +254,7 @@ void give_back_the_rim(const Cloud& cloud, const PatchOptions& o, double a, std:
       const float* q = cloud.data() + 3 * std::size_t(j);
       const Eigen::Vector3d x(q[0], q[1], q[2]);
       const double dist = f.normal.dot(x - f.c);
-      const double facing = std::max(0.25, std::abs(f.normal.dot(x.normalized())));
-      f.pixels.push_back(j), f.sq += dist * dist, f.area += (x.z() * a) * (x.z() * a) / facing;
+      f.pixels.push_back(j), f.sq += dist * dist, f.area += footprint(x, f.normal, a);
       frontier.push_back(j);
     }
   }
@@ -265,7 +274,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   const Grid g(cloud, normals, o.step);
   const int cells = g.gw * g.gh;
   const double cos_max = std::cos(o.max_angle_deg * detail::kDeg);
-  const auto tol = [&](double z) { return o.epsilon * std::max(1.0, z * z); };
+  const auto tol = [&](double z) { return plane_tolerance(o.epsilon, z); };
   std::vector<int> label(std::size_t(cells), -1);  // 1: a cell in a region; -1 free
   std::vector<std::uint8_t> valid(static_cast<std::size_t>(cells));
   for (int k = 0; k < cells; ++k) valid[std::size_t(k)] = g.valid(k);
@@ -431,9 +440,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
           taken[std::size_t(i)] = 1;
           pixels.push_back(i);
           sq += dist * dist;
-          // seen more obliquely than 75 degrees, a pixel counts as at 75 (grazing far floors)
-          const double facing = std::max(0.25, std::abs(normal.dot(x.normalized())));
-          block += (x.z() * a) * (x.z() * a) / facing;
+          block += footprint(x, normal, a);
           ++on;
         }
       if (on) area += block * (1.0 + double(holes) / on);

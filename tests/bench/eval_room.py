@@ -13,8 +13,9 @@ label image), a true positive when of the same model (each truth object once). R
 chairs, tables, doors and cabinets at least 40% visible (visible pixels over the pixels each would cover
 with nothing in front of it, times the share of its projected box inside the image), precision
 every accepted object. Size errors of the true positives: a table's top and a chair's seat, a door's
-leaf, a cabinet's face, its longer and shorter side apart, over those at least 90% visible (a seat seen from behind
-shows only its front: its shorter side is short).
+leaf, a cabinet's face, its longer and shorter side apart, over the parts at least 90% visible
+themselves (their own share, as the object's above: a seat seen from behind is hidden by its own
+back, and its depth is not seen to be measured).
 
 Each accepted object is matched to the label of its class whose box holds the largest share of
 its pixels (its parts' patches), at least 50%; a label is matched once. A match on a required
@@ -219,7 +220,9 @@ def rendered(args) -> int:
                 door_kinds[t.get("kind", "")][0] += 1
             part = next(p for p in t["parts"] if p["role"] == TRUE_PART[t["model"]])
             got = found_sizes(o)
-            if got is not None and share >= 0.9:
+            part_share = part["visible_pixels"] / max(1, part.get("unoccluded_pixels", part["visible_pixels"]))
+            part_share *= in_view({"parts": [part]}, truth["intrinsics"])
+            if got is not None and part_share >= 0.9:
                 want = true_sizes(t["model"], part)
                 errors[t["model"]].append((abs(got[0] - want[0]), abs(got[1] - want[1])))
         print(f"room {seed}: {', '.join(line) or 'nothing'}")

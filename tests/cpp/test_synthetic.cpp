@@ -569,11 +569,13 @@ TEST(SyntheticRender, TimePerVgaFrame) {
 
 // Rooms: the furniture stands where the generator put it (a chair's seat 0.42-0.50 m above the
 // floor, a table's top 0.40-0.76 m), every pixel is labelled (floor and walls fill the rest), each
-// object's visible pixels are at most those it would cover alone, and the same seed gives the
-// same room.
+// object's and each part's visible pixels are at most those it would cover alone (a part: its own
+// object's other parts count as in front, so that a chair in full view whose back hides its seat
+// shows that seat partly hidden), and the same seed gives the same room.
 TEST(SyntheticRoom, FurnitureOnTheFloorWithItsHiddenShareCounted) {
   SceneOptions o = clean_options();
   o.room = true;
+  std::size_t seats_hidden_by_their_back = 0;
   for (const std::uint64_t seed : {9000u, 9001u, 9002u, 9003u}) {
     const auto scene = mereo::synthetic::generate_scene(seed, o);
     EXPECT_TRUE(scene.room);
@@ -584,10 +586,16 @@ TEST(SyntheticRoom, FurnitureOnTheFloorWithItsHiddenShareCounted) {
     EXPECT_EQ(labelled, gt.objects.pixels()) << "seed " << seed;
     for (const auto& obj : gt.objects_truth) {
       EXPECT_LE(obj.visible_pixels, obj.unoccluded_pixels) << obj.model << ", seed " << seed;
+      for (const auto& p : obj.parts) {
+        EXPECT_LE(p.visible_pixels, p.unoccluded_pixels) << obj.model << "." << p.role << ", seed " << seed;
+        EXPECT_LE(p.unoccluded_pixels, obj.unoccluded_pixels) << obj.model << "." << p.role << ", seed " << seed;
+      }
       if (obj.model == "chair") {
         ++chairs;
         const PartTruth* seat = obj.part("seat");
         ASSERT_NE(seat, nullptr);
+        // nothing in front of the chair, yet its seat partly hidden: by its own back
+        seats_hidden_by_their_back += obj.visible_pixels == obj.unoccluded_pixels && seat->visible_pixels < 0.9 * seat->unoccluded_pixels;
         const double top = seat->world.point.z() + 0.5 * seat->world.size.z();
         EXPECT_GE(top, 0.42 - 1e-9);
         EXPECT_LE(top, 0.50 + 1e-9);
@@ -609,4 +617,5 @@ TEST(SyntheticRoom, FurnitureOnTheFloorWithItsHiddenShareCounted) {
     const SyntheticFrame again = mereo::synthetic::render(seed, o);
     EXPECT_EQ(std::memcmp(again.truth.objects.data(), gt.objects.data(), gt.objects.pixels() * sizeof(std::uint32_t)), 0);
   }
+  EXPECT_GE(seats_hidden_by_their_back, 2u);  // 9001 and 9003: seen from behind (0.75 of each seat)
 }

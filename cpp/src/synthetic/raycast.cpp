@@ -364,17 +364,20 @@ bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tm
   return found;
 }
 
-void objects_hit(const RenderScene& rs, const Vec3& o, const Vec3& d, std::vector<std::uint32_t>& out) {
-  out.clear();
+void objects_hit(const RenderScene& rs, const Vec3& o, const Vec3& d, std::vector<std::uint32_t>& out,
+                 std::vector<std::uint32_t>& parts) {
+  out.clear(), parts.clear();
   Hit h;
   const double inf = std::numeric_limits<double>::infinity();
   for (const RenderObject& ro : rs.objects) {
     if (!ray_hits_sphere(ro.bound, o, d, 0.0, inf)) continue;
+    bool any = false;
     for (int k = ro.first; k < ro.first + ro.count; ++k)
       if (intersect(rs.prims[k], o, d, 0.0, inf, h)) {
-        out.push_back(rs.prims[k].object);
-        break;
+        any = true;
+        if (std::find(parts.begin(), parts.end(), rs.prims[k].label) == parts.end()) parts.push_back(rs.prims[k].label);
       }
+    if (any) out.push_back(rs.prims[std::size_t(ro.first)].object);
   }
 }
 

@@ -158,8 +158,10 @@ bool cast_nearest(const RenderScene& rs, const Vec3& o, const Vec3& d, double tm
                   RayHit& out);
 
 /// Does anything block o + t d for t in (tmin, tmax)?
-/// The ids (Prim::object) of the objects the ray meets anywhere along it, each once, in `out`.
-void objects_hit(const RenderScene& rs, const Vec3& o, const Vec3& d, std::vector<std::uint32_t>& out);
+/// The ids (Prim::object) of the objects the ray meets anywhere along it, each once, in `out`;
+/// the labels (Prim::label) of their parts it meets, each once, in `parts`.
+void objects_hit(const RenderScene& rs, const Vec3& o, const Vec3& d, std::vector<std::uint32_t>& out,
+                 std::vector<std::uint32_t>& parts);
 bool cast_any(const RenderScene& rs, const Vec3& o, const Vec3& d, double tmin, double tmax);
 
 }  // namespace mereo::synthetic::detail

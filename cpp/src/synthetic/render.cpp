@@ -188,22 +188,32 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
       }
     }
   });
-  // rooms: the pixels each object would cover alone (its share hidden by what stands in front)
+  // rooms: the pixels each object, and each part, would cover alone (its share hidden by what
+  // stands in front: for a part, its own object's other parts too, as a chair's back hides its seat)
   if (scene.room) {
-    std::vector<std::size_t> alone(gt.objects_truth.size() + 1, 0);
+    std::uint32_t max_label = 0;
+    for (const auto& o : gt.objects_truth)
+      for (const auto& p : o.parts) max_label = std::max(max_label, p.label);
+    std::vector<std::size_t> alone(gt.objects_truth.size() + 1, 0), alone_part(max_label + 1, 0);
     std::mutex m;
     tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-      std::vector<std::size_t> local(alone.size(), 0);
-      std::vector<std::uint32_t> hit;
+      std::vector<std::size_t> local(alone.size(), 0), local_part(alone_part.size(), 0);
+      std::vector<std::uint32_t> hit, parts;
       for (int v = rows.begin(); v < rows.end(); ++v)
         for (int u = 0; u < W; ++u) {
-          objects_hit(rs, Vec3::Zero(), ray_dir(u, v), hit);
+          objects_hit(rs, Vec3::Zero(), ray_dir(u, v), hit, parts);
           for (std::uint32_t id : hit) ++local[id];
+          for (std::uint32_t l : parts)
+            if (l < local_part.size()) ++local_part[l];
         }
       const std::lock_guard<std::mutex> lock(m);
       for (std::size_t k = 0; k < alone.size(); ++k) alone[k] += local[k];
+      for (std::size_t k = 0; k < alone_part.size(); ++k) alone_part[k] += local_part[k];
     });
-    for (auto& o : gt.objects_truth) o.unoccluded_pixels = alone[o.id];
+    for (auto& o : gt.objects_truth) {
+      o.unoccluded_pixels = alone[o.id];
+      for (auto& p : o.parts) p.unoccluded_pixels = alone_part[p.label];
+    }
   }
 
   // ---- visible pixel counts ----

@@ -902,6 +902,7 @@ std::string truth_to_json(const SyntheticFrame& f) {
                        {"class", p.world.cls},
                        {"camera", shape_json(p.camera)},
                        {"world", shape_json(p.world)}});
+      if (p.unoccluded_pixels > 0) parts.back()["unoccluded_pixels"] = p.unoccluded_pixels;
     }
     jo["parts"] = parts;
     objects.push_back(jo);

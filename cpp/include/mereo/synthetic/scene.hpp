@@ -82,6 +82,9 @@ struct PartTruth {
   Shape camera;                      ///< the same in the camera frame of this frame
   std::uint32_t label = 0;           ///< value in GroundTruth::parts (unique per frame)
   std::size_t visible_pixels = 0;    ///< pixels of this part in the clean render
+  /// Rooms: the pixels it would cover with nothing in front of it, its own object's other parts
+  /// included (a chair's seat seen from behind is hidden by its back); 0 for tabletop scenes.
+  std::size_t unoccluded_pixels = 0;
 };
 
 struct ObjectTruth {

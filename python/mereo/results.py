@@ -4,7 +4,8 @@
     mereo.results.to_parquet("results.jsonl", "results.parquet")
 
 Columns: the frame's "source", "frame" (and "input", "index" from mereo.batch), the object's
-"id", "model", "score", "posterior", "accepted", "pose", "coverage", "track" where given, and per
+"id", "model", "is_a" (the concepts the model specializes, nearest first, joined by "/"), "score",
+"posterior", "accepted", "pose", "coverage", "track" where given, and per
 part ROLE its parameters as "ROLE.NAME" (a vector as "ROLE.NAME[0]".. [2]); unknown objects' regions
 as "region.NAME". A frame without objects gives no row. Needs pandas (pip install mereo[dask]).
 """
@@ -44,6 +45,8 @@ def rows(results) -> list[dict]:
         for o in r.get("objects", []):
             row = dict(base)
             row.update({k: o[k] for k in _OBJECT_KEYS if k in o})
+            if "is_a" in o:
+                row["is_a"] = "/".join(o["is_a"])
             for role, part in (o.get("parts") or {}).items():
                 _flatten(role, part, row)
             if "region" in o:

@@ -120,6 +120,16 @@ def overlay(frame, result: dict, labels: list[dict], path: Path) -> None:
 
 FURNITURE = ("chair", "table", "door", "cabinet")
 NOT_FURNITURE = ("box",)  # room.yaml's boxes on stands and desks: neither judged nor false
+# the renderer's kinds of table and the specializations of room.yaml that name them
+SPECIALIZED = {("table", "coffee"): "coffee_table"}
+
+
+def judged(obj: dict) -> dict:
+    """An accepted object as judged: of the furniture class it is or specializes (a coffee_table is
+    a table, by its "is_a"), its own model kept as "concept"."""
+    names = [obj["model"], *obj.get("is_a", [])]
+    cls = next((n for n in names if n in FURNITURE + NOT_FURNITURE + ("sofa",)), obj["model"])
+    return dict(obj, model=cls, concept=obj["model"])
 # the part whose size is judged: as found (any of these roles: a cabinet's modalities name its
 # face differently) and in the renderer's truth
 SIZED_PARTS = {"table": ("top",), "chair": ("seat",), "door": ("leaf",), "cabinet": ("face", "front")}
@@ -177,6 +187,7 @@ def rendered(args) -> int:
     accepted = {c: 0 for c in FURNITURE}
     errors = {c: [] for c in FURNITURE}
     door_kinds = {}
+    specialized = {}  # (model, kind) -> [right, generic, wrong]
     times = []
     for seed in range(args.first, args.first + args.rendered):
         sf = mereo.synthetic.render(seed, so)
@@ -188,7 +199,9 @@ def rendered(args) -> int:
         ids = np.asarray(sf.truth.objects)
         shape = ids.shape
         matched, line = {}, []
-        for o in [o for o in result["objects"] if o["accepted"] and o["model"] not in NOT_FURNITURE]:
+        for o in [judged(o) for o in result["objects"] if o["accepted"]]:
+            if o["model"] in NOT_FURNITURE:
+                continue
             m = object_mask(o, segments, shape)
             accepted[o["model"]] = accepted.get(o["model"], 0) + 1
             hit = ids[m]
@@ -216,6 +229,10 @@ def rendered(args) -> int:
                 line.append(f"missed {t['model']}{' ' + t.get('kind', '') if t['model'] == 'door' else ''} ({100 * share:.0f}%)")
                 continue
             tp[t["model"]] += 1
+            if (t["model"], t.get("kind", "")) in SPECIALIZED:
+                tally = specialized.setdefault((t["model"], t["kind"]), [0, 0, 0])
+                want = SPECIALIZED[(t["model"], t["kind"])]
+                tally[0 if o["concept"] == want else 1 if o["concept"] == t["model"] else 2] += 1
             if t["model"] == "door":
                 door_kinds[t.get("kind", "")][0] += 1
             part = next(p for p in t["parts"] if p["role"] == TRUE_PART[t["model"]])
@@ -237,10 +254,13 @@ def rendered(args) -> int:
         print(f"{c:6s} recall {tp[c]}/{need[c]} = {tp[c] / max(1, need[c]):.2f}, precision {tp[c]}/{accepted[c]} = {prec:.2f}{err}")
     for k, (a, b) in sorted(door_kinds.items()):
         print(f"doors {k}: {a}/{b}")
+    for (model, kind), (right, generic, wrong) in sorted(specialized.items()):
+        print(f"{model}s {kind}, found: as {SPECIALIZED[(model, kind)]} {right}, as {model} {generic}, as another {wrong}")
     print(f"ms per frame (graph run, median): {np.median(times):.0f}; overlays in {out}")
     if args.json:
-        Path(args.json).write_text(json.dumps({"tp": tp, "need": need, "accepted": accepted,
-                                               "size_errors": errors, "median_ms": float(np.median(times))}))
+        Path(args.json).write_text(json.dumps({
+            "tp": tp, "need": need, "accepted": accepted, "size_errors": errors, "median_ms": float(np.median(times)),
+            "specialized": {f"{m} {k}": v for (m, k), v in specialized.items()}}))
     return 0
 
 
@@ -277,16 +297,17 @@ def main(argv=None) -> int:
         times.append(1000 * (time.perf_counter() - t0))
         labels = fr["labels"]
         shape = np.asarray(frame.depth).shape[:2]
-        objects = [o for o in result["objects"] if o["accepted"] and o["model"] not in NOT_FURNITURE]
+        objects = [judged(o) for o in result["objects"] if o["accepted"]]
+        objects = [o for o in objects if o["model"] not in NOT_FURNITURE]
         found, wrong = [], []
         matched = set()
         for o, i, share in match(objects, labels, segments, shape):
             if i is None:
                 fp[o["model"]] = fp.get(o["model"], 0) + 1
-                wrong.append(f"{o['model']} {o['score']:.2f}")
+                wrong.append(f"{o['concept']} {o['score']:.2f}")
             else:
                 matched.add(i)
-                found.append(f"{o['model']}{' (optional)' if labels[i].get('optional') else ''}")
+                found.append(f"{o['concept']}{' (optional)' if labels[i].get('optional') else ''}")
         missed = []
         for i, t in enumerate(labels):
             if t.get("optional"):

@@ -253,6 +253,10 @@ TEST(Models, ShippedFileLoadsAndSpecializes) {
   }
   EXPECT_TRUE(kb.is_a("mug", "container"));
   EXPECT_FALSE(kb.is_a("plate", "container"));
+  // the lineage a result names (RecognizedObject::is_a): nearest first, none for a root or an unknown name
+  EXPECT_EQ(kb.ancestors("mug"), std::vector<std::string>{"container"});
+  EXPECT_TRUE(kb.ancestors("container").empty());
+  EXPECT_TRUE(kb.ancestors("no_such_concept").empty());
   // the inherited radius range was narrowed, the tilt kept
   int radius = 0, tilt = 0;
   for (const auto& a : mug.attributes) {

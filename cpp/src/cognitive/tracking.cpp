@@ -420,7 +420,7 @@ void Tracker::spawn(const std::vector<Observation>& world, const std::vector<boo
     if (taken) continue;
     Track t;
     t.id = next_id_++;
-    t.model = ob.model;
+    t.model = ob.model, t.is_a = ob.is_a;
     t.log_odds = o.prior + o.support * (2 * ob.score - 1);
     t.hits = 1, t.seen = true, t.score = ob.score;
     // the body first, then the other parts
@@ -453,7 +453,7 @@ matching::detail::Json tracks_to_json(const std::vector<Track>& tracks, const Po
   for (const Track* track : reported_tracks(tracks, report)) {
     const Track& t = *track;
     Json o;
-    o["id"] = out.size(), o["model"] = t.model, o["score"] = t.score, o["probability"] = t.probability();
+    o["id"] = out.size(), o["model"] = t.model, o["is_a"] = t.is_a, o["score"] = t.score, o["probability"] = t.probability();
     o["accepted"] = true, o["track"] = t.id, o["in_view"] = t.seen, o["age"] = t.age;
     o["parts"] = Json::object();
     for (const auto& p : t.parts) {

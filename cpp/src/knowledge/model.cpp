@@ -70,6 +70,14 @@ bool KnowledgeBase::is_a(const std::string& cls, const std::string& ancestor) co
   return false;
 }
 
+std::vector<std::string> KnowledgeBase::ancestors(const std::string& cls) const {
+  std::vector<std::string> out;
+  for (std::string c = has(cls) ? concepts_.at(cls).parent : ""; !c.empty() && has(c) && out.size() < 64;
+       c = concepts_.at(c).parent)
+    out.push_back(c);
+  return out;
+}
+
 Concept KnowledgeBase::resolve(const std::string& name) const {
   // the chain of ancestors, checked for cycles
   std::vector<const Concept*> chain;

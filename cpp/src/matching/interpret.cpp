@@ -81,6 +81,7 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
       RecognizedObject r;
       r.id = int(out.size());
       r.model = H[i].concept_name;
+      r.is_a = kb.ancestors(r.model);
       r.score = H[i].score;
       r.posterior = H[i].posterior;
       r.accepted = pass == 0;
@@ -119,7 +120,7 @@ Json result_to_json(const Frame& frame, const std::vector<Segment>& segments,
   j["objects"] = Json::array();
   for (const auto& o : objects) {
     Json obj;
-    obj["id"] = o.id, obj["model"] = o.model, obj["score"] = o.score, obj["posterior"] = o.posterior;
+    obj["id"] = o.id, obj["model"] = o.model, obj["is_a"] = o.is_a, obj["score"] = o.score, obj["posterior"] = o.posterior;
     if (!o.modality.empty()) obj["modality"] = o.modality;
     obj["accepted"] = o.accepted;
     obj["parts"] = Json::object();

@@ -40,7 +40,7 @@ graph::NodeSpec track_objects_node() {
       std::vector<cognitive::Observation> obs;
       for (const auto& r : ctx.input<std::vector<matching::RecognizedObject>>("objects")) {
         cognitive::Observation ob;
-        ob.model = r.model, ob.score = r.score, ob.accepted = r.accepted;
+        ob.model = r.model, ob.is_a = r.is_a, ob.score = r.score, ob.accepted = r.accepted;
         for (const auto& [role, k] : r.parts) ob.parts.emplace_back(role, segments.at(std::size_t(k))), ob.segments.push_back(k);
         obs.push_back(std::move(ob));
       }

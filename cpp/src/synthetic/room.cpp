@@ -173,6 +173,7 @@ Scene generate_room(std::uint64_t seed, const SceneOptions& options) {
   }
   // the table, chairs about it (at its long sides, facing it, pulled out), a chair on its own
   scene.objects.push_back(table(rng, Vec3::Zero(), yaw, L, W, H));
+  scene.objects.back().kind = dining ? "dining" : "coffee";
   const Eigen::Matrix3d Ry = rotation(yaw, 0, 0);
   const bool office = rng.chance(0.4);
   const int per_side = dining ? std::max(1, int(L / 0.6)) : 0;

@@ -115,6 +115,7 @@ inline const Fields<TrackOptions>& TrackOptions::fields() {
 /// One object hypothesis of a frame (camera frame).
 struct Observation {
   std::string model;
+  std::vector<std::string> is_a;  ///< the concepts the model specializes (RecognizedObject::is_a)
   double score = 0.0;
   bool accepted = false;
   std::vector<std::pair<std::string, Segment>> parts;  ///< role -> segment; "body" first if any
@@ -153,6 +154,7 @@ struct TrackedPart {
 struct Track {
   int id = 0;
   std::string model;
+  std::vector<std::string> is_a;
   double log_odds = 0.0;
   int age = 0;        ///< frames since it started
   int hits = 0;       ///< frames with a supporting view

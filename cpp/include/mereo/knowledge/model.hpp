@@ -126,6 +126,9 @@ class KnowledgeBase {
 
   /// True if `cls` is `ancestor` or specializes it (a mug is a container).
   bool is_a(const std::string& cls, const std::string& ancestor) const;
+  /// The concepts `cls` specializes, nearest first (coffee_table: {"table"}); empty for a root
+  /// concept or an unknown name.
+  std::vector<std::string> ancestors(const std::string& cls) const;
 
  private:
   std::map<std::string, Concept> concepts_;

@@ -20,6 +20,7 @@ namespace mereo::matching {
 struct RecognizedObject {
   int id = 0;                      ///< index in the result's list
   std::string model;               ///< the concept's name ("mug")
+  std::vector<std::string> is_a;   ///< the concepts it specializes, nearest first ({"container"})
   std::string modality;            ///< its part set, for a concept with alternatives ("conical"); else ""
   double score = 0.0;              ///< the hypothesis's score (eq. 5.5)
   double posterior = 0.0;          ///< P(concept | evidence)

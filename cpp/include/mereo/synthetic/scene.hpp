@@ -95,7 +95,8 @@ struct ObjectTruth {
   std::string pose;                  ///< jars and cans: "upright" or "lying" (else empty)
   /// What kind of its model it is, where models come in kinds: a mug's handle ("torus", "d",
   /// "squared", "band") with handle_shapes "varied"; an "other": "blob", "banana", "drill",
-  /// "rounded_box". Empty otherwise.
+  /// "rounded_box"; in rooms, a table: "dining" or "coffee", a chair: "office" or "four_legged", a
+  /// door: "ajar" or "closed". Empty otherwise.
   std::string kind;
   std::vector<PartTruth> parts;
   std::size_t visible_pixels = 0;

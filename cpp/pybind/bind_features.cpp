@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "mereo/features/edges.hpp"
+#include "mereo/features/legs.hpp"
 #include "mereo/features/patches.hpp"
 #include "mereo/features/primitives.hpp"
 #include "mereo/features/regions.hpp"
@@ -21,6 +22,7 @@ void bind_features(py::module_& m) {
   pu::register_options<ft::DetectOptions>("DetectOptions");
   pu::register_options<ft::RegionOptions>("RegionOptions");
   pu::register_options<ft::PatchOptions>("PatchOptions");
+  pu::register_options<ft::LegOptions>("LegOptions");
   pu::register_options<ft::EdgePrimitiveOptions>("EdgePrimitiveOptions");
   const std::string edges_doc = pu::takes_options(
       m, "detect_edge_primitives", "EdgePrimitiveOptions",
@@ -85,6 +87,20 @@ void bind_features(py::module_& m) {
                           "(mereo.knowledge.Segment objects of class patch; .pixels holds each one's pixels). "
                           "`up`: the direction against gravity in the camera frame (upright patches then have a "
                           "horizontal u_axis).")
+            .c_str());
+  m.def("find_legs",
+        [](py::handle cloud, const std::vector<mereo::Segment>& segments, const Eigen::Vector3d& up, double floor_d,
+           py::kwargs options) {
+          const auto o = pu::options_from_kwargs<ft::LegOptions>("find_legs", options);
+          const auto c = from_numpy<float, 3>(cloud, "cloud");
+          py::gil_scoped_release release;
+          return ft::find_legs(c, segments, up, floor_d, o);
+        },
+        py::arg("cloud"), py::arg("segments"), py::arg("up"), py::arg("floor_d"),
+        pu::takes_options(m, "find_legs", "LegOptions",
+                          "The legs under the level patches among `segments` (planar_patches) of an (H, W, 3) "
+                          "cloud: thin upright supports as segments of class cylinder (axis up). `up`, `floor_d`: "
+                          "the floor's normal and offset (up . x + floor_d is a point's height above it).")
             .c_str());
   m.def("label_image",
         [](const std::vector<mereo::Segment>& segments, int rows, int cols) {

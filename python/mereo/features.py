@@ -1,10 +1,11 @@
 """The feature layer: planes, cylinders, cones, spheres and tori found in organized clouds; bounded
-planar patches (a room's floor, walls, table tops, seats); lines and elliptical arcs of the colour
+planar patches (a room's floor, walls, table tops, seats) and the legs under them; lines and elliptical arcs of the colour
 image (the edge modality)."""
-from ._mereo.features import detect_edge_primitives, detect_primitives, label_image, planar_patches
+from ._mereo.features import detect_edge_primitives, detect_primitives, find_legs, label_image, planar_patches
 from ._mereo.knowledge import Segment
 
-__all__ = ["Segment", "detect_edge_primitives", "detect_primitives", "draw_edge_primitives", "label_image", "planar_patches"]
+__all__ = ["Segment", "detect_edge_primitives", "detect_primitives", "draw_edge_primitives", "find_legs", "label_image",
+           "planar_patches"]
 
 
 def draw_edge_primitives(frame, segments):

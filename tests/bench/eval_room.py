@@ -64,9 +64,9 @@ def run(graph, frame):
     """The result dict of one frame and each segment's pixel indices."""
     from mereo import recognition
 
-    r = graph.run([frame], keep=["result.result", "patches.segments"])[0]
+    r = graph.run([frame], keep=["result.result", "legs.segments"])[0]
     result = recognition._result(r, "skip")
-    segments = {} if r["error"] else {s.id: np.asarray(s.pixels, np.int64) for s in r["outputs"]["patches.segments"]}
+    segments = {} if r["error"] else {s.id: np.asarray(s.pixels, np.int64) for s in r["outputs"]["legs.segments"]}
     return result, segments
 
 
@@ -121,7 +121,8 @@ def overlay(frame, result: dict, labels: list[dict], path: Path) -> None:
 FURNITURE = ("chair", "table", "door", "cabinet")
 NOT_FURNITURE = ("box",)  # room.yaml's boxes on stands and desks: neither judged nor false
 # the renderer's kinds of table and the specializations of room.yaml that name them
-SPECIALIZED = {("table", "coffee"): "coffee_table"}
+SPECIALIZED = {("table", "coffee"): "coffee_table", ("chair", "office"): "office_chair",
+               ("chair", "four_legged"): "dining_chair"}
 
 
 def judged(obj: dict) -> dict:

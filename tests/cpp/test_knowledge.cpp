@@ -210,6 +210,39 @@ TEST(Predicates, ConvexIsTwoFacesOfABox) {
   EXPECT_DOUBLE_EQ(evaluate(convex, {&front, &beside}, ctx), 0.0);
 }
 
+// under: a leg stands under a seat (its top up to the seat within `reach`, its centre across up
+// within [min, max] of the seat's); a camera looking along +z, up = -y, the seat 0.45 m above a
+// floor 1.2 m below the eye.
+TEST(Predicates, UnderIsALegBelowASeat) {
+  Context ctx;
+  ctx.up = -Eigen::Vector3d::UnitY();
+  shapes::Patch p;
+  p.point = {0, 0.75, 3}, p.normal = -Eigen::Vector3d::UnitY(), p.u_axis = Eigen::Vector3d::UnitX(), p.size_u = 0.45,
+  p.size_v = 0.42;
+  const Segment seat{p};
+  // a leg at the seat's corner, 0.1-0.35 m above the floor (the part the legs' scan sees)
+  const Segment corner = cylinder({0.2, 1.2 - 0.225, 3.19}, ctx.up, 0.02, 0.25);
+  const Segment column = cylinder({0.01, 1.2 - 0.225, 3.0}, ctx.up, 0.025, 0.25);
+  Constraint under{"under", {"a", "b"}, {}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(under, {&seat, &corner}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(under, {&seat, &column}, ctx), 1.0);
+  // a dining chair's legs towards the corners, an office chair's column at the middle
+  Constraint legs{"under", {"a", "b"}, {{"min", 0.13}, {"max", 0.4}}, {}, {}};
+  Constraint middle{"under", {"a", "b"}, {{"max", 0.12}}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(legs, {&seat, &corner}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(legs, {&seat, &column}, ctx), 0.0);
+  EXPECT_DOUBLE_EQ(evaluate(middle, {&seat, &column}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(middle, {&seat, &corner}, ctx), 0.0);
+  // a leg ending 0.3 m below the seat (a chair's under a table top) is not the top's; one beside
+  // the seat is not under it; one that rises through it is not under it either
+  const Segment low = cylinder({0.2, 1.2 - 0.1, 3.19}, ctx.up, 0.02, 0.1);
+  const Segment beside = cylinder({0.8, 1.2 - 0.225, 3.0}, ctx.up, 0.02, 0.25);
+  const Segment through = cylinder({0.2, 1.2 - 0.5, 3.19}, ctx.up, 0.02, 0.8);
+  EXPECT_DOUBLE_EQ(evaluate(under, {&seat, &low}, ctx), 0.0);
+  EXPECT_DOUBLE_EQ(evaluate(under, {&seat, &beside}, ctx), 0.0);
+  EXPECT_DOUBLE_EQ(evaluate(under, {&seat, &through}, ctx), 0.0);
+}
+
 // rest_gap: an axial body's lowest point above the support, from the geometry of a finite
 // cylinder (its ends' rims) against a table 0.8 m below a camera looking along it (up = -y).
 TEST(Predicates, RestGapIsTheLowestPointAboveTheSupport) {

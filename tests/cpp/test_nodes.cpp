@@ -30,7 +30,7 @@ TEST(Builtin, RegistersTheListedKindsAndTypesOnce) {
   for (int i = 0; i < 4; ++i) threads.emplace_back([] { nodes::register_builtin(); });
   for (auto& t : threads) t.join();
   EXPECT_EQ(kinds(), (std::vector<std::string>{"frame_source", "filter_depth", "back_project", "estimate_normals",
-                                               "support_plane", "detect_primitives", "detect_edges", "find_regions", "detect_patches", "models", "match_models",
+                                               "support_plane", "detect_primitives", "detect_edges", "find_regions", "detect_patches", "detect_legs", "models", "match_models",
                                                "interpret", "odometry", "track_objects", "report"}));  // no test-only kinds
   EXPECT_EQ(type_names(), (std::vector<std::string>{"Cloud", "Color", "Depth", "Frame", "Interpretation", "Labels",
                                                     "Lattice", "Mask", "ModelSet", "NormalMap", "Number", "Segments",

@@ -11,6 +11,7 @@
 #include "mereo/extension/normals.hpp"
 #include "mereo/extension/support_plane.hpp"
 #include "mereo/features/edges.hpp"
+#include "mereo/features/legs.hpp"
 #include "mereo/features/primitives.hpp"
 #include "mereo/features/patches.hpp"
 #include "mereo/features/regions.hpp"
@@ -242,6 +243,7 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   expect_node_options_are<features::DetectOptions>(specs, "detect_primitives");
   expect_node_options_are<features::RegionOptions>(specs, "find_regions");
   expect_node_options_are<features::PatchOptions>(specs, "detect_patches");
+  expect_node_options_are<features::LegOptions>(specs, "detect_legs");
   expect_node_options_are<features::EdgePrimitiveOptions>(specs, "detect_edges");
   expect_node_options_are<extension::NormalOptions>(specs, "estimate_normals");
   expect_node_options_are<extension::SupportPlaneOptions>(specs, "support_plane");
@@ -256,7 +258,7 @@ TEST(Options, EveryNodeTakesTheOptionsOfItsStruct) {
   const std::set<std::string> checked{"detect_primitives", "estimate_normals", "support_plane", "filter_depth",
                                       "models",            "match_models",     "interpret",     "report",
                                       "track_objects",     "odometry",         "find_regions",  "detect_edges",
-                                      "detect_patches"};
+                                      "detect_patches",    "detect_legs"};
   for (const auto& s : specs)
     if (!s.options.empty())
       EXPECT_TRUE(checked.count(s.kind)) << "node kind " << s.kind << " has options but no described options struct in this test";

@@ -21,6 +21,7 @@ NODES = {
     "interpret": ("InterpretOptions", None, set(), set()),
     "find_regions": ("RegionOptions", None, set(), set()),
     "detect_patches": ("PatchOptions", F.planar_patches, set(), set()),
+    "detect_legs": ("LegOptions", F.find_legs, set(), set()),
     "report": (None, None, {"track_probability"}, set()),
     "track_objects": ("TrackOptions", None, set(), set()),
     "odometry": ("OdometryOptions", None, {"replace"}, set()),
@@ -91,6 +92,9 @@ def call(kind, scene, **options):
                 for s in F.detect_edge_primitives(frame, **options)]
     if kind == "detect_patches":
         return [(s.inliers, s.params["area"]) for s in F.planar_patches(cloud, normals, **options)]
+    if kind == "detect_legs":
+        patches = F.planar_patches(cloud, normals, up=plane.normal)
+        return [(s.inliers, s.params["height"]) for s in F.find_legs(cloud, patches, plane.normal, plane.d, **options)]
     if kind == "match_models":
         segs = F.detect_primitives(cloud, normals, roi=plane.roi)
         lattice = K.recognize(K.load_models(), ["mug", "cup"], segs, **options)

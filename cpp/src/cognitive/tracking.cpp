@@ -140,8 +140,15 @@ void add_evidence(Track& t, double delta, const TrackOptions& o) {
   t.log_odds = std::clamp(t.log_odds + delta, o.floor, 20.0);
 }
 
-/// Associate: the observations of the track's body; the best accepted one of its model is the
-/// support (-1: none). Sets t.seen.
+/// The observation names a concept of the track's kind: both specialize the same root concept or
+/// are it (a chair's track, and an office_chair seen where its column shows; an office chair's
+/// track, and the dining_chair a view takes it for where a table's leg stands under its seat).
+bool same_kind(const Track& t, const Observation& ob) {
+  return (t.is_a.empty() ? t.model : t.is_a.back()) == (ob.is_a.empty() ? ob.model : ob.is_a.back());
+}
+
+/// Associate: the observations of the track's body; the best accepted one of its model (or of a
+/// kind of it) is the support (-1: none). Sets t.seen.
 int associate(Track& t, const View& view, const TrackOptions& o) {
   int support = -1;
   bool seen = false;
@@ -150,7 +157,7 @@ int associate(Track& t, const View& view, const TrackOptions& o) {
     if (!b || !same_body(*b, track_body(t), o)) continue;
     seen = true;
     const Observation& ob = view.world[k];
-    if (ob.accepted && ob.model == t.model && (support < 0 || ob.score > view.world[std::size_t(support)].score))
+    if (ob.accepted && same_kind(t, ob) && (support < 0 || ob.score > view.world[std::size_t(support)].score))
       support = int(k);
   }
   t.seen = seen;
@@ -194,6 +201,9 @@ void contradiction(Track& t, const View& view, const TrackOptions& o) {
 /// re-anchored where two views in a row agree on a new place.
 void update_parts(Track& t, const Observation& ob, double distance, const TrackOptions& o) {
   ++t.hits;
+  // a view that shows what the track's kind is (a chair's legs: a dining chair) refines it, and a
+  // view that does not (its back alone) keeps it
+  if (std::find(ob.is_a.begin(), ob.is_a.end(), t.model) != ob.is_a.end()) t.model = ob.model, t.is_a = ob.is_a;
   t.score = ob.score;
   double delta = o.support * (2 * ob.score - 1);
   const Segment& body_now = *body_of(ob);
@@ -415,8 +425,8 @@ void Tracker::spawn(const std::vector<Observation>& world, const std::vector<boo
   for (std::size_t k = 0; k < world.size(); ++k) {
     const Observation& ob = world[k];
     if (used[k] || !ob.accepted || !body_of(ob)) continue;
-    bool taken = false;  // another track of the same model already holds this body
-    for (const Track& t : tracks_) taken = taken || (t.model == ob.model && same_body(*body_of(ob), track_body(t), o));
+    bool taken = false;  // another track of the same model (or kind) already holds this body
+    for (const Track& t : tracks_) taken = taken || (same_kind(t, ob) && same_body(*body_of(ob), track_body(t), o));
     if (taken) continue;
     Track t;
     t.id = next_id_++;

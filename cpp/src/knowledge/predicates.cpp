@@ -114,6 +114,19 @@ double on(const Segment& a, const Segment& b, const Constraint& c, const Context
   const double reach = b.extent();
   return std::min(contact, falling(dh.norm(), reach, reach + tol));
 }
+/// b stands under a (a leg under a seat): b's top reaches up to within `reach` of a's lowest point
+/// (ramp over `margin`), and b's centre lies `min` to `max` from a's centre across up (default max:
+/// a's extent: anywhere under it).
+double under(const Segment& a, const Segment& b, const Constraint& c, const Context& ctx) {
+  const double margin = param(c, "margin", 0.05), reach = param(c, "reach", 0.2);
+  const Eigen::Vector3d up = ctx.up.normalized();
+  const double gap = (up.dot(a.origin()) - a.half_extent_along(up)) - (up.dot(b.origin()) + b.half_extent_along(up));
+  const Eigen::Vector3d d = b.origin() - a.origin();
+  const double across = (d - up * up.dot(d)).norm();
+  const double lo = param(c, "min", 0.0), hi = param(c, "max", a.extent());
+  return std::min({rising(gap, -margin, margin), falling(gap, reach, reach + margin),
+                   Membership::range(lo, hi, margin)(across)});
+}
 /// Two faces of one box: each one's centre lies behind the other's surface (patches' normals face
 /// the camera), as at a convex edge; a leaf standing out of its wall (a concave corner) is not.
 double convex(const Segment& a, const Segment& b, const Constraint& c) {
@@ -246,6 +259,7 @@ const std::map<std::string, std::vector<std::string>>& predicate_table() {
       {"radial", {"tolerance_deg"}},
       {"above", {"margin"}},
       {"on", {"tolerance"}},
+      {"under", {"min", "max", "reach", "margin"}},
       {"convex", {"margin"}},
       {"same_size", {"ratio"}},
       {"distance", {"min", "max", "margin"}},
@@ -392,6 +406,8 @@ CompiledConstraint compile(const Constraint& c) {
     };
   else if (p == "above") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return above(a, b, k, x); };
   else if (p == "on") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return on(a, b, k, x); };
+  else if (p == "under")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return under(a, b, k, x); };
   else if (p == "convex")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return convex(a, b, k); };
   else if (p == "same_size")

@@ -40,10 +40,13 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
   // Between hypotheses that explain as many segments equally well, the more specific concept
   // wins (a can over a jar for a 66 mm body): the data are likelier under the narrower ranges
   // (Occam's factor), measured as the sum of the log widths of the attribute ranges of the
-  // parts present.
+  // parts present. Where those are as wide, the more general concept wins: nothing seen tells
+  // the specialization (a chair seen from behind, whose legs a dining chair would show).
   std::vector<double> breadth(H.size(), 0.0);
+  std::vector<std::size_t> depth(H.size(), 0);
   for (std::size_t i = 0; i < H.size(); ++i) {
     const auto& c = concept_of(H[i]);
+    depth[i] = kb.ancestors(H[i].concept_name).size();
     for (const auto& a : c.attributes) {
       const int k = c.part_index(a.part);
       if (k < 0 || k >= int(H[i].assignment.size()) || H[i].assignment[k] < 0) continue;
@@ -56,7 +59,8 @@ std::vector<RecognizedObject> interpret(const knowledge::KnowledgeBase& kb, cons
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     if (segs[a].size() != segs[b].size()) return segs[a].size() > segs[b].size();
     if (std::abs(H[a].score - H[b].score) > 1e-9) return H[a].score > H[b].score;
-    return breadth[a] < breadth[b] - 1e-9;
+    if (std::abs(breadth[a] - breadth[b]) > 1e-9) return breadth[a] < breadth[b];
+    return depth[a] < depth[b];
   });
   std::set<int> used;
   std::vector<int> accepted, listed;

@@ -15,6 +15,7 @@ std::vector<graph::NodeSpec> builtin_node_specs() {
       detect_edges_node(),
       find_regions_node(),
       detect_patches_node(),
+      detect_legs_node(),
       models_node(),
       match_models_node(),
       interpret_node(),

@@ -18,6 +18,7 @@ graph::NodeSpec detect_primitives_node();
 graph::NodeSpec detect_edges_node();
 graph::NodeSpec find_regions_node();
 graph::NodeSpec detect_patches_node();
+graph::NodeSpec detect_legs_node();
 graph::NodeSpec models_node();
 graph::NodeSpec match_models_node();
 graph::NodeSpec interpret_node();

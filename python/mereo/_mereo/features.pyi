@@ -7,7 +7,7 @@ import mereo._mereo
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['detect_edge_primitives', 'detect_primitives', 'label_image', 'planar_patches']
+__all__: list[str] = ['detect_edge_primitives', 'detect_primitives', 'find_legs', 'label_image', 'planar_patches']
 @typing.overload
 def detect_edge_primitives(frame: mereo._mereo.Frame, **kwargs) -> list[...]:
     """
@@ -79,6 +79,24 @@ def detect_primitives(cloud: typing.Any, normals: typing.Any, roi: typing.Any = 
         colour_handle_turn_deg (float, default 60, 0..75): ... in planes turned from the limbs' about the body's axis by up to this (0: the limbs' planes only)
         handles_from_edges (bool, default true): where neither the depth nor the silhouette shows a handle, look for its outline among the colour image's edges
         max_handle_turn_deg (float, default 25, 0..90): a ring that fits better turned more than this from its body's axis is not a handle (90: no check)
+    """
+def find_legs(cloud: typing.Any, segments: collections.abc.Sequence[...], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], floor_d: typing.SupportsFloat, **kwargs) -> list[...]:
+    """
+    The legs under the level patches among `segments` (planar_patches) of an (H, W, 3) cloud: thin upright supports as segments of class cylinder (axis up). `up`, `floor_d`: the floor's normal and offset (up . x + floor_d is a point's height above it).
+    
+    Options (keyword arguments; mereo.options_of lists them):
+        min_top (float, default 0.25, 0..10): lowest level patch looked under, metres above the floor
+        max_top (float, default 1.2, 0..10): highest level patch looked under, metres above the floor
+        max_tilt_deg (float, default 12, 0..90): a level patch's normal to up, degrees
+        margin (float, default 0.06, 0..1): how far beyond the patch's rectangle a leg may stand, metres
+        cell (float, default 0.03, 0.005..0.5): the horizontal grid's cell, metres
+        floor_clear (float, default 0.1, 0..1): points lower than this above the floor are not looked at, metres
+        top_clear (float, default 0.1, 0..1): nor those within this of the patch's height, metres
+        max_width (float, default 0.18, 0.01..1): widest leg, metres
+        min_span (float, default 0.5, 0..1): least share of the height under the patch a leg spans
+        reach (float, default 0.2, 0..1): a leg's top lies within this of the patch, metres
+        min_points (int, default 12, 1..1e+06): fewest points of a leg
+        step (int, default 1, 1..16): pixel step of the scan
     """
 def label_image(segments: collections.abc.Sequence[...], rows: typing.SupportsInt, cols: typing.SupportsInt) -> numpy.typing.NDArray[numpy.int32]:
     """

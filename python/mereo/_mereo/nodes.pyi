@@ -3,7 +3,7 @@ Every registered node kind: mereo.nodes.<kind>(**options).
 """
 from __future__ import annotations
 import mereo._mereo
-__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'detect_edges', 'find_regions', 'detect_patches', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
+__all__: list = ['frame_source', 'filter_depth', 'back_project', 'estimate_normals', 'support_plane', 'detect_primitives', 'detect_edges', 'find_regions', 'detect_patches', 'detect_legs', 'models', 'match_models', 'interpret', 'odometry', 'track_objects', 'report']
 def back_project(**kwargs) -> mereo._mereo.NodeTemplate:
     """
     The frame's organized XYZ cloud (metres, camera frame, NaN where depth is missing).
@@ -41,6 +41,30 @@ def detect_edges(**kwargs) -> mereo._mereo.NodeTemplate:
         lift (bool, default true): fit 3-D lines and circles where the frame has depth
         lift_window_px (int, default 2, 0..10): half-size of the window a pixel takes its depth from
         lift_tolerance (float, default 0.01, 0.0001..1): RMS about a lifted fit, metres at 1 m (grows with z)
+    """
+def detect_legs(**kwargs) -> mereo._mereo.NodeTemplate:
+    """
+    Thin upright supports under the level patches (table and chair legs, an office chair's column), as cylinders.
+    
+    Inputs:
+        cloud (Cloud): organized XYZ cloud
+        plane (SupportPlane): the floor (heights above it)
+        segments (Segments): the patches (detect_patches)
+    Outputs:
+        segments (Segments): the patches, then the legs (class cylinder)
+    Options:
+        min_top (float, default 0.25, 0..10): lowest level patch looked under, metres above the floor
+        max_top (float, default 1.2, 0..10): highest level patch looked under, metres above the floor
+        max_tilt_deg (float, default 12, 0..90): a level patch's normal to up, degrees
+        margin (float, default 0.06, 0..1): how far beyond the patch's rectangle a leg may stand, metres
+        cell (float, default 0.03, 0.005..0.5): the horizontal grid's cell, metres
+        floor_clear (float, default 0.1, 0..1): points lower than this above the floor are not looked at, metres
+        top_clear (float, default 0.1, 0..1): nor those within this of the patch's height, metres
+        max_width (float, default 0.18, 0.01..1): widest leg, metres
+        min_span (float, default 0.5, 0..1): least share of the height under the patch a leg spans
+        reach (float, default 0.2, 0..1): a leg's top lies within this of the patch, metres
+        min_points (int, default 12, 1..1e+06): fewest points of a leg
+        step (int, default 1, 1..16): pixel step of the scan
     """
 def detect_patches(**kwargs) -> mereo._mereo.NodeTemplate:
     """

@@ -153,6 +153,8 @@ struct TrackedPart {
 
 struct Track {
   int id = 0;
+  /// The concept it holds: refined to a specialization when a supporting view shows one (a
+  /// chair's track becomes an office_chair's where its column is seen), never widened back.
   std::string model;
   std::vector<std::string> is_a;
   double log_odds = 0.0;

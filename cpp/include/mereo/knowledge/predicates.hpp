@@ -19,6 +19,10 @@
 //  - above(a, b; margin = 0.01 m): a's centre higher than b's along `up`, ramp over `margin`;
 //  - on(a, b; tolerance = 0.01 m): a's lowest point at b's top (along `up`), and a's centre over
 //    b (horizontal distance within b's extent);
+//  - under(a, b; min = 0, max = extent(a), reach = 0.2 m, margin = 0.05 m): b stands under a (a
+//    leg under a seat): b's top within `reach` below a's lowest point, and b's centre min to max
+//    from a's across up (an office chair's column at the seat's middle, a dining chair's legs
+//    towards its corners), each a ramp over `margin`;
 //  - convex(a, b; margin = 0.02 m): each one's centre lies behind the other's surface (negative
 //    signed distance), ramp over `margin`: two faces of a box at a convex edge, not a door leaf
 //    standing out of its wall;

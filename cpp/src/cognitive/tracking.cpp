@@ -140,11 +140,12 @@ void add_evidence(Track& t, double delta, const TrackOptions& o) {
   t.log_odds = std::clamp(t.log_odds + delta, o.floor, 20.0);
 }
 
-/// The observation names a concept of the track's kind: both specialize the same root concept or
-/// are it (a chair's track, and an office_chair seen where its column shows; an office chair's
-/// track, and the dining_chair a view takes it for where a table's leg stands under its seat).
+/// The observation names the track's model, one that specializes it or one it specializes (a
+/// chair's track, and an office_chair seen where its column shows). Siblings are not (a mug's
+/// track, and a cup seen where its handle should show: evidence against the mug).
 bool same_kind(const Track& t, const Observation& ob) {
-  return (t.is_a.empty() ? t.model : t.is_a.back()) == (ob.is_a.empty() ? ob.model : ob.is_a.back());
+  const auto has = [](const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); };
+  return ob.model == t.model || has(ob.is_a, t.model) || has(t.is_a, ob.model);
 }
 
 /// Associate: the observations of the track's body; the best accepted one of its model (or of a

@@ -25,7 +25,13 @@ struct Low {
 struct Cell {
   std::vector<int> points;  // indices into the Low list
   float lo = INFINITY, hi = -INFINITY;
+  int above = 0;            // points 5-20 cm above the patch
 };
+
+/// Points 5-20 cm above the patch over which a leg ends: a leg of its own ends under it; a table's
+/// leg beside a seat rises on past it, alone, where a chair's back over its rear legs spreads
+/// sideways along the seat's edge.
+constexpr double kAboveFrom = 0.05, kAboveTo = 0.2;
 
 }  // namespace
 
@@ -57,7 +63,7 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
       if (!valid_point(q)) continue;
       const Eigen::Vector3d x(q[0], q[1], q[2]);
       const double h = height(x);
-      if (h >= o.floor_clear && h <= highest - o.top_clear) low.push_back({v * cloud.cols() + u, float(h), x});
+      if (h >= o.floor_clear && h <= highest + kAboveTo) low.push_back({v * cloud.cols() + u, float(h), x});
     }
   std::vector<std::uint8_t> taken(low.size(), 0);
 
@@ -72,12 +78,17 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
     const int nu = std::min(400, int(std::ceil(2 * hu / o.cell))), nv = std::min(400, int(std::ceil(2 * hv / o.cell)));
     std::vector<Cell> grid(std::size_t(nu) * std::size_t(nv));
     for (std::size_t k = 0; k < low.size(); ++k) {
-      if (taken[k] || low[k].height > h - o.top_clear) continue;
+      const bool above = low[k].height > h + kAboveFrom && low[k].height <= h + kAboveTo;
+      if (taken[k] || (low[k].height > h - o.top_clear && !above)) continue;
       const Eigen::Vector3d d = low[k].x - top->point;
       const double a = eu.dot(d) + hu, b = ev.dot(d) + hv;
       const int iu = int(a / o.cell), iv = int(b / o.cell);
       if (a < 0 || b < 0 || iu >= nu || iv >= nv) continue;
       Cell& c = grid[std::size_t(iv) * std::size_t(nu) + std::size_t(iu)];
+      if (above) {
+        ++c.above;
+        continue;
+      }
       c.points.push_back(int(k)), c.lo = std::min(c.lo, low[k].height), c.hi = std::max(c.hi, low[k].height);
     }
     // 8-connected groups of occupied cells
@@ -111,6 +122,16 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
       const double width = o.cell * std::max(u1 - u0 + 1, v1 - v0 + 1);
       const double room = h - o.top_clear - o.floor_clear;
       if (int(count) < o.min_points || width > o.max_width || hi - lo < o.min_span * room || hi < h - o.reach) continue;
+      // rising on past the patch, alone: what is above its cells and what is 2-4 cells around them
+      int over = 0, around = 0;
+      for (int cv = std::max(0, v0 - 4); cv <= std::min(nv - 1, v1 + 4); ++cv)
+        for (int cu = std::max(0, u0 - 4); cu <= std::min(nu - 1, u1 + 4); ++cu) {
+          const int ring = std::max({u0 - cu, cu - u1, v0 - cv, cv - v1, 0});
+          const int n = grid[std::size_t(cv) * std::size_t(nu) + std::size_t(cu)].above;
+          if (ring == 0) over += n;
+          else if (ring >= 2) around += n;
+        }
+      if (over >= o.min_points && 4 * around < over) continue;
       // the leg: its points' horizontal centre, the span seen
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       Segment s;

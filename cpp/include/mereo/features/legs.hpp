@@ -3,8 +3,8 @@
 // legs, an office chair on a column). A leg is a thin upright support between the floor and the
 // patch: the points under the patch's rectangle (grown by a margin), between a little above the
 // floor and a little below the patch, binned on a horizontal grid; each 8-connected group of
-// occupied cells that is narrow, spans most of that height and reaches up to the patch is one, a
-// segment of class cylinder (shapes/cylinder.hpp: axis up, `point` at the middle of the span seen,
+// occupied cells that is narrow, spans most of that height and reaches up to the patch is one
+// (unless it rises on past the patch alone: a table's leg beside a seat), a segment of class cylinder (shapes/cylinder.hpp: axis up, `point` at the middle of the span seen,
 // `radius` half the group's width, `height` the span seen).
 #pragma once
 

@@ -28,9 +28,9 @@ struct Cell {
   int above = 0;            // points 5-20 cm above the patch
 };
 
-/// Points 5-20 cm above the patch over which a leg ends: a leg of its own ends under it; a table's
-/// leg beside a seat rises on past it, alone, where a chair's back over its rear legs spreads
-/// sideways along the seat's edge.
+/// Points 5-20 cm above the patch over which a leg ends, where a higher patch's rectangle holds
+/// it too: a leg of its own ends under it; a table's leg beside a chair's seat rises on past it,
+/// alone, where a chair's back over its rear legs spreads sideways along the seat's edge.
 constexpr double kAboveFrom = 0.05, kAboveTo = 0.2;
 
 }  // namespace
@@ -66,6 +66,11 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
       if (h >= o.floor_clear && h <= highest + kAboveTo) low.push_back({v * cloud.cols() + u, float(h), x});
     }
   std::vector<std::uint8_t> taken(low.size(), 0);
+  struct Done {  // a patch looked under: its horizontal rectangle (grown by the margin)
+    Eigen::Vector3d point, eu, ev;
+    double hu, hv;
+  };
+  std::vector<Done> done;
 
   for (const shapes::Patch* top : tops) {
     const double h = height(top->point);
@@ -122,7 +127,12 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
       const double width = o.cell * std::max(u1 - u0 + 1, v1 - v0 + 1);
       const double room = h - o.top_clear - o.floor_clear;
       if (int(count) < o.min_points || width > o.max_width || hi - lo < o.min_span * room || hi < h - o.reach) continue;
-      // rising on past the patch, alone: what is above its cells and what is 2-4 cells around them
+      // under a higher patch too, and rising on past this one, alone: what is above its cells and
+      // what is 2-4 cells around them
+      const Eigen::Vector3d at = top->point + eu * ((u0 + u1 + 1) * 0.5 * o.cell - hu) + ev * ((v0 + v1 + 1) * 0.5 * o.cell - hv);
+      bool under_higher = false;
+      for (const Done& q : done)
+        under_higher = under_higher || (std::abs(q.eu.dot(at - q.point)) <= q.hu && std::abs(q.ev.dot(at - q.point)) <= q.hv);
       int over = 0, around = 0;
       for (int cv = std::max(0, v0 - 4); cv <= std::min(nv - 1, v1 + 4); ++cv)
         for (int cu = std::max(0, u0 - 4); cu <= std::min(nu - 1, u1 + 4); ++cu) {
@@ -131,7 +141,7 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
           if (ring == 0) over += n;
           else if (ring >= 2) around += n;
         }
-      if (over >= o.min_points && 4 * around < over) continue;
+      if (under_higher && over >= o.min_points && 4 * around < over) continue;
       // the leg: its points' horizontal centre, the span seen
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       Segment s;
@@ -174,6 +184,7 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
       std::sort(s.pixels.begin(), s.pixels.end());
       out.push_back(std::move(s));
     }
+    done.push_back({top->point, eu, ev, hu, hv});
   }
   return out;
 }

@@ -51,15 +51,7 @@ std::vector<std::vector<int>> pcl_legs(const Cloud& cloud, const std::vector<Seg
                                        const Eigen::Vector3d& up, double d, const features::LegOptions& o) {
   std::vector<std::vector<int>> out;
   std::vector<std::uint8_t> taken(cloud.pixels(), 0);
-  std::vector<const shapes::Patch*> tops;
-  for (const auto& s : patches)
-    if (const auto* p = s.get_if<shapes::Patch>()) {
-      const double h = up.dot(p->point) + d;
-      if (h >= o.min_top && h <= o.max_top && std::abs(p->normal.dot(up)) >= std::cos(o.max_tilt_deg * M_PI / 180))
-        tops.push_back(p);
-    }
-  std::stable_sort(tops.begin(), tops.end(), [&](const auto* a, const auto* b) { return up.dot(a->point) > up.dot(b->point); });
-  for (const auto* top : tops) {
+  for (const auto* top : features::leg_tops(patches, up, d, o)) {
     const double h = up.dot(top->point) + d;
     const Eigen::Vector3d eu = (top->u_axis - up * up.dot(top->u_axis)).normalized(), ev = up.cross(eu);
     const double hu = 0.5 * top->size_u + o.margin, hv = 0.5 * top->size_v + o.margin;
@@ -89,7 +81,6 @@ std::vector<std::vector<int>> pcl_legs(const Cloud& cloud, const std::vector<Seg
     ec.setInputCloud(pts);
     std::vector<pcl::PointIndices> clusters;
     ec.extract(clusters);
-    const double room = h - o.top_clear - o.floor_clear;
     for (const auto& c : clusters) {
       float lo = INFINITY, hi = -INFINITY;
       Eigen::Vector2d mn(INFINITY, INFINITY), mx(-INFINITY, -INFINITY);
@@ -100,7 +91,7 @@ std::vector<std::vector<int>> pcl_legs(const Cloud& cloud, const std::vector<Seg
         lo = std::min(lo, height[std::size_t(k)]), hi = std::max(hi, height[std::size_t(k)]);
       }
       const double width = (mx - mn).maxCoeff() + o.cell;
-      if (width > o.max_width || hi - lo < o.min_span * room || hi < h - o.reach) continue;
+      if (!features::leg_shaped(width, lo, hi, h, o)) continue;
       out.emplace_back();
       for (int k : c.indices) out.back().push_back(pixel[std::size_t(k)]), taken[std::size_t(pixel[std::size_t(k)])] = 1;
     }

@@ -140,12 +140,16 @@ void add_evidence(Track& t, double delta, const TrackOptions& o) {
   t.log_odds = std::clamp(t.log_odds + delta, o.floor, 20.0);
 }
 
+/// `model` is among the concepts of an is_a list.
+bool names(const std::vector<std::string>& is_a, const std::string& model) {
+  return std::find(is_a.begin(), is_a.end(), model) != is_a.end();
+}
+
 /// The observation names the track's model, one that specializes it or one it specializes (a
 /// chair's track, and an office_chair seen where its column shows). Siblings are not (a mug's
 /// track, and a cup seen where its handle should show: evidence against the mug).
 bool same_kind(const Track& t, const Observation& ob) {
-  const auto has = [](const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); };
-  return ob.model == t.model || has(ob.is_a, t.model) || has(t.is_a, ob.model);
+  return ob.model == t.model || names(ob.is_a, t.model) || names(t.is_a, ob.model);
 }
 
 /// Associate: the observations of the track's body; the best accepted one of its model (or of a
@@ -204,7 +208,7 @@ void update_parts(Track& t, const Observation& ob, double distance, const TrackO
   ++t.hits;
   // a view that shows what the track's kind is (a chair's legs: a dining chair) refines it, and a
   // view that does not (its back alone) keeps it
-  if (std::find(ob.is_a.begin(), ob.is_a.end(), t.model) != ob.is_a.end()) t.model = ob.model, t.is_a = ob.is_a;
+  if (names(ob.is_a, t.model)) t.model = ob.model, t.is_a = ob.is_a;
   t.score = ob.score;
   double delta = o.support * (2 * ob.score - 1);
   const Segment& body_now = *body_of(ob);

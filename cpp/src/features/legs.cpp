@@ -35,14 +35,10 @@ constexpr double kAboveFrom = 0.05, kAboveTo = 0.2;
 
 }  // namespace
 
-std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& segments, const Eigen::Vector3d& up_in,
-                               double floor_d, const LegOptions& o) {
-  if (!(up_in.norm() > 0) || !std::isfinite(floor_d)) throw InputError("legs: the floor's normal and offset must be finite");
-  if (!(o.cell > 0) || o.step < 1) throw InputError("legs: cell must be positive and step at least 1");
+std::vector<const shapes::Patch*> leg_tops(const std::vector<Segment>& segments, const Eigen::Vector3d& up_in,
+                                           double floor_d, const LegOptions& o) {
   const Eigen::Vector3d up = up_in.normalized();
   const auto height = [&](const Eigen::Vector3d& x) { return up.dot(x) + floor_d; };
-
-  // the level patches looked under, highest first
   std::vector<const shapes::Patch*> tops;
   for (const auto& s : segments)
     if (const auto* p = s.get_if<shapes::Patch>()) {
@@ -51,6 +47,21 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
         tops.push_back(p);
     }
   std::stable_sort(tops.begin(), tops.end(), [&](const auto* a, const auto* b) { return height(a->point) > height(b->point); });
+  return tops;
+}
+
+bool leg_shaped(double width, double lo, double hi, double h, const LegOptions& o) {
+  return width <= o.max_width && hi - lo >= o.min_span * (h - o.top_clear - o.floor_clear) && hi >= h - o.reach;
+}
+
+std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& segments, const Eigen::Vector3d& up_in,
+                               double floor_d, const LegOptions& o) {
+  if (!(up_in.norm() > 0) || !std::isfinite(floor_d)) throw InputError("legs: the floor's normal and offset must be finite");
+  if (!(o.cell > 0) || o.step < 1) throw InputError("legs: cell must be positive and step at least 1");
+  const Eigen::Vector3d up = up_in.normalized();
+  const auto height = [&](const Eigen::Vector3d& x) { return up.dot(x) + floor_d; };
+
+  const std::vector<const shapes::Patch*> tops = leg_tops(segments, up, floor_d, o);
   std::vector<Segment> out;
   if (tops.empty()) return out;
 
@@ -125,8 +136,7 @@ std::vector<Segment> find_legs(const Cloud& cloud, const std::vector<Segment>& s
         count += grid[std::size_t(c)].points.size();
       }
       const double width = o.cell * std::max(u1 - u0 + 1, v1 - v0 + 1);
-      const double room = h - o.top_clear - o.floor_clear;
-      if (int(count) < o.min_points || width > o.max_width || hi - lo < o.min_span * room || hi < h - o.reach) continue;
+      if (int(count) < o.min_points || !leg_shaped(width, lo, hi, h, o)) continue;
       // under a higher patch too, and rising on past this one, alone: what is above its cells and
       // what is 2-4 cells around them
       const Eigen::Vector3d at = top->point + eu * ((u0 + u1 + 1) * 0.5 * o.cell - hu) + ev * ((v0 + v1 + 1) * 0.5 * o.cell - hv);

@@ -188,12 +188,12 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
       }
     }
   });
+  std::uint32_t max_label = 0;  // the highest part label (labels index the per-part counts)
+  for (const auto& o : gt.objects_truth)
+    for (const auto& p : o.parts) max_label = std::max(max_label, p.label);
   // rooms: the pixels each object, and each part, would cover alone (its share hidden by what
   // stands in front: for a part, its own object's other parts too, as a chair's back hides its seat)
   if (scene.room) {
-    std::uint32_t max_label = 0;
-    for (const auto& o : gt.objects_truth)
-      for (const auto& p : o.parts) max_label = std::max(max_label, p.label);
     std::vector<std::size_t> alone(gt.objects_truth.size() + 1, 0), alone_part(max_label + 1, 0);
     std::mutex m;
     tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
@@ -218,9 +218,6 @@ SyntheticFrame render(const Scene& scene, const Pose& camera_pose, const SceneOp
 
   // ---- visible pixel counts ----
   {
-    std::uint32_t max_label = 0;
-    for (const auto& o : gt.objects_truth)
-      for (const auto& p : o.parts) max_label = std::max(max_label, p.label);
     std::vector<std::size_t> part_count(max_label + 1, 0), obj_count(gt.objects_truth.size() + 1, 0);
     const double inf = std::numeric_limits<double>::infinity();
     std::vector<Vec3> lo(gt.objects_truth.size() + 1, Vec3::Constant(inf)), hi(lo.size(), Vec3::Constant(-inf));

@@ -16,6 +16,10 @@
 #include "mereo/core/options.hpp"
 #include "mereo/core/segment.hpp"
 
+namespace mereo::shapes {
+struct Patch;
+}
+
 namespace mereo::features {
 
 struct LegOptions {
@@ -61,6 +65,14 @@ inline const Fields<LegOptions>& LegOptions::fields() {
   };
   return f;
 }
+
+/// The level patches among `segments` (class patch) that find_legs looks under, highest first.
+std::vector<const shapes::Patch*> leg_tops(const std::vector<Segment>& segments, const Eigen::Vector3d& up,
+                                           double floor_d, const LegOptions& options = {});
+/// Whether a group of points under a patch `h` above the floor, `width` across and seen from `lo`
+/// to `hi` above the floor, has a leg's shape: narrow, spanning most of the height under the
+/// patch, reaching up to it.
+bool leg_shaped(double width, double lo, double hi, double h, const LegOptions& options = {});
 
 /// The legs under the level patches among `segments` (class patch; others are ignored): segments
 /// of class cylinder, each with its pixels, under the highest patch first (a point is one leg's at

@@ -252,15 +252,18 @@ void bind_knowledge(py::module_& m) {
 
   pu::register_options<mt::MatchOptions>("MatchOptions");
   pu::register_options<mt::InterpretOptions>("InterpretOptions");
-  auto options = [](const char* function, const py::kwargs& kw, std::optional<Eigen::Vector3d> up) {
+  // up: against gravity; support_d: the support surface's offset (up.dot(x) + support_d is a
+  // point's height above it: the `top`, `bottom` attributes of furniture), NaN for none
+  auto options = [](const char* function, const py::kwargs& kw, std::optional<Eigen::Vector3d> up, double support_d) {
     auto o = pu::options_from_kwargs<mt::MatchOptions>(function, kw);
     if (up) o.context.up = *up;
+    o.context.support_d = support_d;
     return o;
   };
   m.def("match",
         [options](const kn::Concept& c, const std::vector<Segment>& segs, std::optional<Eigen::Vector3d> up,
-                  bool exhaustive, const kn::KnowledgeBase* kb, py::kwargs kw) {
-          auto o = options("match", kw, up);
+                  bool exhaustive, const kn::KnowledgeBase* kb, double support_d, py::kwargs kw) {
+          auto o = options("match", kw, up, support_d);
           o.kb = kb;
           mt::MatchStats st;
           std::vector<mt::Hypothesis> h;
@@ -271,20 +274,23 @@ void bind_knowledge(py::module_& m) {
           return py::make_tuple(h, st);
         },
         py::arg("concept"), py::arg("segments"), py::arg("up") = py::none(), py::arg("exhaustive") = false,
-        py::arg("kb") = nullptr,
+        py::arg("kb") = nullptr, py::arg("support_d") = std::numeric_limits<double>::quiet_NaN(),
         pu::takes_options(m, "match", "MatchOptions",
                           "The N best hypotheses of a (resolved) concept and the search counters: (list, "
-                          "MatchStats). `kb` resolves parts whose class is a concept.")
+                          "MatchStats). `kb` resolves parts whose class is a concept; `support_d` places the support "
+                          "surface (heights above it: up.dot(x) + support_d).")
             .c_str());
   m.def("recognize",
         [options](const kn::KnowledgeBase& kb, const std::vector<std::string>& names, const std::vector<Segment>& segs,
-                  std::optional<Eigen::Vector3d> up, py::kwargs kw) {
-          const auto o = options("recognize", kw, up);
+                  std::optional<Eigen::Vector3d> up, double support_d, py::kwargs kw) {
+          const auto o = options("recognize", kw, up, support_d);
           py::gil_scoped_release release;
           return mt::recognize(kb, names, segs, o);
         },
         py::arg("kb"), py::arg("concepts"), py::arg("segments"), py::arg("up") = py::none(),
+        py::arg("support_d") = std::numeric_limits<double>::quiet_NaN(),
         pu::takes_options(m, "recognize", "MatchOptions",
-                          "Every concept matched (in parallel): the lattice of hypotheses.")
+                          "Every concept matched (in parallel): the lattice of hypotheses; `support_d` places the "
+                          "support surface (heights above it: up.dot(x) + support_d).")
             .c_str());
 }

@@ -1317,23 +1317,50 @@ TEST(Features, TheRangeResidualsGradientMatchesItsDifferences) {
   EXPECT_EQ(checked, 600);
 }
 
+namespace {
+// A room of rectangles (centre, normal, in-plane u axis, sizes along u and across it), ray-cast
+// from an eye at the room frame's origin (x right, y down: gravity, z ahead) into a 640 x 480
+// camera (f 525) turned by room_from_camera: exact depth, NaN where no rectangle is hit.
+struct RoomRect {
+  Eigen::Vector3d c, n, u;
+  double su, sv;
+};
+Cloud ray_cast_room(const std::vector<RoomRect>& rects, const Eigen::Matrix3d& room_from_camera) {
+  const int rows = 480, cols = 640;
+  const double f = 525, cx = 319.5, cy = 239.5;
+  Cloud cloud(rows, cols);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 0; u < cols; ++u) {
+      const Eigen::Vector3d ray_c((u - cx) / f, (v - cy) / f, 1.0);
+      const Eigen::Vector3d ray = room_from_camera * ray_c;
+      double best = INFINITY;
+      for (const RoomRect& r : rects) {
+        const double den = r.n.dot(ray);
+        if (std::abs(den) < 1e-9) continue;
+        const double t = r.n.dot(r.c) / den;
+        if (!(t > 0) || t >= best) continue;
+        const Eigen::Vector3d q = t * ray - r.c, w = r.n.cross(r.u);
+        if (std::abs(q.dot(r.u)) <= r.su / 2 && std::abs(q.dot(w)) <= r.sv / 2) best = t;
+      }
+      const Eigen::Vector3d p = ray_c * best;  // camera frame: ray_c has z = 1
+      for (int k = 0; k < 3; ++k) cloud.ptr(v, u)[k] = std::isfinite(best) ? float(p(k)) : NAN;
+    }
+  return cloud;
+}
+}  // namespace
+
 // Bounded planar patches against a ray-cast room with exact sizes: a floor 1.3 m below the camera,
 // a coffee table's top 0.45 m above it (1.2 x 0.7 m), a wall 4.5 m ahead, and a door leaf standing ajar in
 // front of it (a door flush with its wall is one plane with it: depth alone cannot part them), and a box as high as the
 // table. Each is one patch with its true size and area; with gravity the upright ones' rectangles stand along it, and
 // the table top is open below where the box's top is not.
 TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
-  const int rows = 480, cols = 640;
-  const double f = 525, cx = 319.5, cy = 239.5;
   // the camera looks 10 degrees down (the door's top in view); room frame: x right, y down (gravity), z ahead, the eye at
   // its origin 1.3 m above the floor
   const double pitch = 10 * M_PI / 180;
   const Eigen::Matrix3d room_from_camera = Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const Eigen::Vector3d eye = Eigen::Vector3d::Zero();
-  struct Rect {
-    Eigen::Vector3d c, n, u;
-    double su, sv;
-  };
+  const Eigen::Vector3d eye = Eigen::Vector3d::Zero();  // ray_cast_room's
+  using Rect = RoomRect;
   const std::vector<Rect> rects = {
       {{0, 1.3, 3}, {0, -1, 0}, {1, 0, 0}, 8, 8},                // floor
       {{0.2, 0.85, 2.4}, {0, -1, 0}, {1, 0, 0}, 1.2, 0.7},       // a coffee table's top, 0.45 m high
@@ -1342,23 +1369,7 @@ TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
       {{1.15, 0.85, 2.6}, {0, -1, 0}, {1, 0, 0}, 0.5, 0.5},              // a box's top as high as the table's
       {{1.15, 1.075, 2.35}, {0, 0, -1}, {1, 0, 0}, 0.5, 0.45},           // ... its front below it
       {{0.9, 1.075, 2.6}, {-1, 0, 0}, {0, 0, 1}, 0.5, 0.45}};            // ... and its side
-  Cloud cloud(rows, cols);
-  for (int v = 0; v < rows; ++v)
-    for (int u = 0; u < cols; ++u) {
-      const Eigen::Vector3d ray_c((u - cx) / f, (v - cy) / f, 1.0);
-      const Eigen::Vector3d ray = room_from_camera * ray_c;
-      double best = INFINITY;
-      for (const Rect& r : rects) {
-        const double den = r.n.dot(ray);
-        if (std::abs(den) < 1e-9) continue;
-        const double t = r.n.dot(r.c - eye) / den;
-        if (!(t > 0) || t >= best) continue;
-        const Eigen::Vector3d q = eye + t * ray - r.c, w = r.n.cross(r.u);
-        if (std::abs(q.dot(r.u)) <= r.su / 2 && std::abs(q.dot(w)) <= r.sv / 2) best = t;
-      }
-      const Eigen::Vector3d p = ray_c * best;  // camera frame: ray_c has z = 1
-      for (int k = 0; k < 3; ++k) cloud.ptr(v, u)[k] = std::isfinite(best) ? float(p(k)) : NAN;
-    }
+  const Cloud cloud = ray_cast_room(rects, room_from_camera);
   const NormalMap normals = extension::estimate_normals(cloud);
   const Eigen::Vector3d up = room_from_camera.transpose() * -Eigen::Vector3d::UnitY();
   const auto patches = features::planar_patches(cloud, normals, {}, &up);
@@ -1432,4 +1443,49 @@ TEST(Patches, RectanglesOfARayCastRoomHaveTheirTrueSizes) {
   EXPECT_EQ(large, 4u) << "areas:" << areas;
   // bad input: sizes that differ
   EXPECT_THROW(features::planar_patches(cloud, NormalMap(2, 2)), InputError);
+}
+
+// A level patch's far edge: hidden where something stands on it (a cushion on a side table's rear
+// half rises from the top at a concave edge, without a depth step), seen where the floor lies far
+// behind it (the same table with nothing on it). Ray-cast: two tops 0.45 m high, 0.5 x 0.45 m,
+// the camera 1.3 m above the floor looking 25 degrees down.
+TEST(Patches, ALevelPatchsFarEdgeIsHiddenByWhatStandsOnIt) {
+  const Eigen::Matrix3d room_from_camera =
+      Eigen::AngleAxisd(-25 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Vector3d down(0, 1, 0), back(0, 0, -1), x(1, 0, 0);
+  const std::vector<RoomRect> rects = {
+      {{0, 1.3, 3}, -down, x, 8, 8},                   // floor
+      {{0, -0.2, 4.5}, back, x, 8, 3},                 // wall
+      {{-0.45, 0.85, 2.2}, -down, x, 0.5, 0.45},       // the loaded table's top
+      {{-0.45, 0.75, 2.1}, back, x, 0.5, 0.2},         // the cushion's front, on the top's rear 0.325 m
+      {{-0.45, 0.65, 2.2625}, -down, x, 0.5, 0.325},   // ... and its top
+      {{0.45, 0.85, 2.2}, -down, x, 0.5, 0.45}};       // the bare table's top
+  const Cloud cloud = ray_cast_room(rects, room_from_camera);
+  const Eigen::Vector3d up = room_from_camera.transpose() * -down;
+  const auto patches = features::planar_patches(cloud, extension::estimate_normals(cloud), {}, &up);
+  const auto level_at = [&](double x0, double height) -> const shapes::Patch* {
+    for (const auto& s : patches) {
+      const auto& p = s.as<shapes::Patch>();
+      const Eigen::Vector3d r = room_from_camera * p.point;  // room frame
+      if (p.normal.dot(up) > 0.99 && std::abs(r.y() - (1.3 - height)) < 0.01 && std::abs(r.x() - x0) < 0.1) return &p;
+    }
+    return nullptr;
+  };
+  const auto* loaded = level_at(-0.45, 0.45);
+  const auto* bare = level_at(0.45, 0.45);
+  const auto* cushion = level_at(-0.45, 0.65);
+  ASSERT_NE(loaded, nullptr);
+  ASSERT_NE(bare, nullptr);
+  ASSERT_NE(cushion, nullptr);
+  EXPECT_TRUE(loaded->far_hidden);
+  EXPECT_NEAR(std::min(loaded->size_u, loaded->size_v), 0.125, 0.03);  // the strip before the cushion
+  EXPECT_FALSE(bare->far_hidden);
+  EXPECT_NEAR(std::min(bare->size_u, bare->size_v), 0.45, 0.03);
+  EXPECT_FALSE(cushion->far_hidden);
+  // upright patches keep it unset; level ones keep top_hidden, bottom_hidden unset
+  for (const auto& s : patches) {
+    const auto& p = s.as<shapes::Patch>();
+    if (std::abs(p.normal.dot(up)) < 0.5) EXPECT_FALSE(p.far_hidden);
+    if (p.normal.dot(up) > 0.99) EXPECT_FALSE(p.top_hidden || p.bottom_hidden);
+  }
 }

@@ -105,9 +105,11 @@ double footprint(const Eigen::Vector3d& x, const Eigen::Vector3d& n, double a) {
 /// where another surface meets the patch's plane without a step (a floor below a wall's foot, a
 /// box's side at its front's edge) or nothing is found. The plane (normal n through c) runs on for
 /// the rim the normals' window leaves (points within half its tolerance); a step is measured
-/// between pixels two apart, as the depth filter spreads it over a few.
+/// between pixels two apart, as the depth filter spreads it over a few. With rising_hides, a
+/// surface that leaves the plane on its normal's side (towards the camera: a cushion standing on a
+/// table top meets it at a concave edge, without a step) hides it too: -1.
 int depth_step(const Cloud& cloud, int v, int u, int dv, int du, int reach, const Eigen::Vector3d& n,
-               const Eigen::Vector3d& c, double epsilon) {
+               const Eigen::Vector3d& c, double epsilon, bool rising_hides = false) {
   const int W = cloud.cols(), H = cloud.rows();
   const double z = cloud.ptr(v, u)[2], margin = far_step(z), off = 0.5 * plane_tolerance(epsilon, z);
   const float* older = cloud.ptr(v, u);  // the valid pixel two back (one back at first)
@@ -118,7 +120,7 @@ int depth_step(const Cloud& cloud, int v, int u, int dv, int du, int reach, cons
     const float* q = cloud.ptr(vk, uk);
     if (!valid_point(q)) continue;
     if (std::abs(q[2] - older[2]) > margin) return q[2] > older[2] ? 1 : -1;
-    if (std::abs(n.dot(Eigen::Vector3d(q[0], q[1], q[2]) - c)) > off) return 0;
+    if (const double h = n.dot(Eigen::Vector3d(q[0], q[1], q[2]) - c); std::abs(h) > off) return rising_hides && h > 0 ? -1 : 0;
     if (newer) older = newer;
     newer = q;
   }
@@ -132,6 +134,8 @@ int depth_step(const Cloud& cloud, int v, int u, int dv, int du, int reach, cons
 /// NaN with fewer than 20 such pixels. top_hidden, bottom_hidden: along most of the edge, the image
 /// ends there (within 12 pixels of its border: the normals' window leaves a rim of bad normals
 /// that no patch takes) or the depth steps in front beyond it (depth_step: an occluder).
+/// far_hidden (level patches): so along the upper edge in the image, the far one, where what
+/// stands on the patch (rising from its plane) hides it as well.
 /// side_cut: the share of its rows that end on the image's left or right rim. stands_out (upright
 /// patches): the share of its rows' ends off the rim beyond which the depth steps behind (a front
 /// before its wall) rather than in front (an occluder) or not at all (the wall it is part of, a
@@ -162,7 +166,14 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
       if (q[2] > z + margin) ++open;
       else if (q[2] >= z - margin) ++closed;
     }
-    if (!upright) continue;
+    if (!upright) {  // a level patch's far edge
+      if (vt < rim) {
+        ++seen[0], ++hidden[0];
+        continue;
+      }
+      ++seen[0], hidden[0] += depth_step(cloud, vt, u, -1, 0, rim, patch.normal, c, epsilon, true) < 0;
+      continue;
+    }
     // what lies beyond each edge: an occluder in front hides it
     for (const int side : {0, 1}) {
       const int edge = side == 0 ? vt : vb, dir = side == 0 ? -1 : 1;
@@ -190,8 +201,9 @@ void edges(const Cloud& cloud, const std::vector<int>& pixels, double a, bool up
   patch.side_cut = rows ? double(cut) / rows : 0.0;
   patch.stands_out = ends >= 10 ? double(out) / ends : std::nan("");
   patch.open_below = open + closed >= 20 ? double(open) / (open + closed) : std::nan("");
-  patch.top_hidden = seen[0] > 0 && 2 * hidden[0] >= seen[0];
-  patch.bottom_hidden = seen[1] > 0 && 2 * hidden[1] >= seen[1];
+  const bool hid[2] = {seen[0] > 0 && 2 * hidden[0] >= seen[0], seen[1] > 0 && 2 * hidden[1] >= seen[1]};
+  if (upright) patch.top_hidden = hid[0], patch.bottom_hidden = hid[1];
+  else patch.far_hidden = hid[0];
 }
 
 /// A region grown, before it is described: its plane (normal through c), pixels, seen area and

@@ -377,9 +377,9 @@ def builtin_models() -> KnowledgeBase:
     """
     The shipped models (graphs/models/*.yaml).
     """
-def match(concept: Concept, segments: collections.abc.Sequence[Segment], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, exhaustive: bool = False, kb: KnowledgeBase = None, **kwargs) -> tuple:
+def match(concept: Concept, segments: collections.abc.Sequence[Segment], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, exhaustive: bool = False, kb: KnowledgeBase = None, support_d: typing.SupportsFloat = ..., **kwargs) -> tuple:
     """
-    The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats). `kb` resolves parts whose class is a concept.
+    The N best hypotheses of a (resolved) concept and the search counters: (list, MatchStats). `kb` resolves parts whose class is a concept; `support_d` places the support surface (heights above it: up.dot(x) + support_d).
     
     Options (keyword arguments; mereo.options_of lists them):
         best (int, default 10, 1..1000): hypotheses kept per concept
@@ -389,9 +389,9 @@ def primitive_classes() -> list[str]:
     """
     The shape table's classes, in its order.
     """
-def recognize(kb: KnowledgeBase, concepts: collections.abc.Sequence[str], segments: collections.abc.Sequence[Segment], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, **kwargs) -> Lattice:
+def recognize(kb: KnowledgeBase, concepts: collections.abc.Sequence[str], segments: collections.abc.Sequence[Segment], up: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"] | None = None, support_d: typing.SupportsFloat = ..., **kwargs) -> Lattice:
     """
-    Every concept matched (in parallel): the lattice of hypotheses.
+    Every concept matched (in parallel): the lattice of hypotheses; `support_d` places the support surface (heights above it: up.dot(x) + support_d).
     
     Options (keyword arguments; mereo.options_of lists them):
         best (int, default 10, 1..1000): hypotheses kept per concept

@@ -165,6 +165,27 @@ def test_legs_stand_where_the_rendered_legs_are():
     with pytest.raises(mereo.InputError, match="floor"):
         mereo.features.find_legs(cloud, [], np.array([0.0, -1.0, 0.0]), float("nan"))
 
+def test_a_closed_door_in_the_plane_of_its_wall_is_its_own_patch():
+    """Rendered tuning room 9514: a white door closed in a pale yellow wall, one plane with it in
+    depth. Its slanted edges blend door, wall and the dark gap between them into a ramp of cell
+    colours, each step below the patches' colour_edge; upright growth stays out of the cells with a
+    pixel-level colour step, so the wall does not swallow the door, and the door is found."""
+    import mereo
+
+    ev = _eval_room()
+    sf = mereo.synthetic.render(9514, mereo.synthetic.SceneOptions(room=True))
+    truth = json.loads(sf.truth_json())
+    door = next(o["id"] for o in truth["objects"] if o["model"] == "door")
+    ids = np.asarray(sf.truth.objects).reshape(-1)
+    result, segments = ev.run(ev.room_graph(), sf.frame)
+    best = max(segments, key=lambda k: int((ids[np.asarray(segments[k])] == door).sum()))
+    pixels = np.asarray(segments[best])
+    assert (ids[pixels] == door).mean() > 0.95          # the patch is the door's, not the wall's
+    assert (ids[pixels] == door).sum() > 0.9 * (ids == door).sum()
+    assert any(o["accepted"] and o["model"] == "door" and o["parts"]["leaf"]["segment"] == best
+               for o in result["objects"])
+
+
 def test_cabinets_of_rendered_rooms_stand_out_of_their_walls(tmp_path):
     """A rendered room's cabinet against its back wall, seen square on, is one upright patch that
     stands out of the wall at both sides (far depth beyond them): a cabinet, and nothing else in

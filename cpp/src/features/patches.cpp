@@ -307,6 +307,29 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
         }
       cell_colour[std::size_t(k)] = sum / float(std::max(1, count));
     }
+  // cells on a colour edge at the pixel level (a step of more than colour_edge between neighbouring
+  // pixels of the block or into the next): along a slanted door edge their means blend door, wall
+  // and the dark gap between them into a ramp of steps each below colour_edge, so upright growth
+  // stays out of them (the rim gives their pixels back by plane)
+  std::vector<std::uint8_t> on_line(by_colour ? std::size_t(cells) : 0, 0);
+  if (by_colour) {
+    const float line = float(o.colour_edge);
+    const auto rgb = [&](int v, int u) -> Eigen::Vector3f {
+      const std::uint8_t* c = color->ptr(v, u);
+      return Eigen::Vector3f(c[0], c[1], c[2]) / 255.f;
+    };
+    for (int k = 0; k < cells; ++k) {
+      const int u0 = (k % g.gw) * o.step, v0 = (k / g.gw) * o.step;
+      bool hit = false;
+      for (int v = v0; v < std::min(cloud.rows(), v0 + o.step) && !hit; ++v)
+        for (int u = u0; u < std::min(cloud.cols(), u0 + o.step) && !hit; ++u) {
+          const Eigen::Vector3f c = rgb(v, u);
+          hit = (u + 1 < cloud.cols() && (rgb(v, u + 1) - c).norm() > line) ||
+                (v + 1 < cloud.rows() && (rgb(v + 1, u) - c).norm() > line);
+        }
+      on_line[std::size_t(k)] = hit;
+    }
+  }
   // a step from cell a to b crosses a colour edge when b differs from a, or from the cell behind
   // a on the same line: an edge blurred over two cells (a door's frame drawn in) is a step too,
   // a wall's shading over three cells is not
@@ -359,6 +382,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
         if (seen[std::size_t(j)] || !valid[std::size_t(j)] || label[std::size_t(j)] >= 0) continue;
         const Eigen::Vector3d pj = g.p(j);
         if (std::abs(pj.z() - pk.z()) > o.depth_jump * pk.z() || colour_edge(k, j)) continue;
+        if (!level && by_colour && on_line[std::size_t(j)]) continue;
         if (!on_plane(pj, n.dot(pj - c), level) || g.n(j).dot(n) < (level ? cos_level : cos_max)) continue;
         seen[std::size_t(j)] = 1;
         queue.push_back(j);

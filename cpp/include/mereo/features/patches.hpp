@@ -38,7 +38,9 @@ struct PatchOptions {
   double level_min_width = 0.1;
   /// With a colour image, growth does not cross between neighbouring cells whose mean colours
   /// differ by more than this (RGB in [0, 1], Euclidean): a door in the plane of its wall (rendered
-  /// rooms 9100-9119: doors 5/20 -> 6/20; the real room frames: unchanged). 0: off.
+  /// rooms 9100-9119: doors 5/20 -> 6/20; the real room frames: unchanged); nor does upright
+  /// growth enter a cell with a step this large between neighbouring pixels (a door's edge, where
+  /// the cells' means blend door, wall and the gap between them). 0: off.
   double colour_edge = 0.15;
   /// Patches whose points are mostly farther than this (metres, along the optical axis) are
   /// none: beyond it a depth camera's surfaces break into pieces whose sizes mean little.

@@ -251,7 +251,8 @@ def rendered(args) -> int:
         e = np.asarray(errors[c]).reshape(-1, 2)
         err = (f", size errors over {len(e)} at least 90% visible, longer / shorter side: median "
                f"{100 * np.median(e[:, 0]):.1f} / {100 * np.median(e[:, 1]):.1f} cm, "
-               f"max {100 * e[:, 0].max():.1f} / {100 * e[:, 1].max():.1f} cm") if len(e) else ""
+               f"max {100 * e[:, 0].max():.1f} / {100 * e[:, 1].max():.1f} cm, "
+               f"both within 5 cm {int((e.max(axis=1) <= 0.05).sum())}/{len(e)}") if len(e) else ""
         print(f"{c:6s} recall {tp[c]}/{need[c]} = {tp[c] / max(1, need[c]):.2f}, precision {tp[c]}/{accepted[c]} = {prec:.2f}{err}")
     for k, (a, b) in sorted(door_kinds.items()):
         print(f"doors {k}: {a}/{b}")

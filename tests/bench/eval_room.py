@@ -243,6 +243,8 @@ def rendered(args) -> int:
             if got is not None and part_share >= 0.9:
                 want = true_sizes(t["model"], part)
                 errors[t["model"]].append((abs(got[0] - want[0]), abs(got[1] - want[1])))
+                if max(abs(got[0] - want[0]), abs(got[1] - want[1])) > 0.05:  # named, to be looked at
+                    line.append(f"{t['model']}'s {part['role']} {got[0]:.2f} x {got[1]:.2f} m for {want[0]:.2f} x {want[1]:.2f}")
         print(f"room {seed}: {', '.join(line) or 'nothing'}")
         overlay(sf.frame, result, [], out / f"room_{seed}.png")
     print()

@@ -309,8 +309,9 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
     }
   // cells on a colour edge at the pixel level (a step of more than colour_edge between neighbouring
   // pixels of the block or into the next): along a slanted door edge their means blend door, wall
-  // and the dark gap between them into a ramp of steps each below colour_edge, so upright growth
-  // stays out of them (the rim gives their pixels back by plane)
+  // and the dark gap between them into a ramp of steps each below colour_edge. Upright growth takes
+  // them, but leaves them only for a cell of the colour it had before it entered them (`before`:
+  // the last cell off an edge on its way), so it does not walk down the ramp into the door.
   std::vector<std::uint8_t> on_line(by_colour ? std::size_t(cells) : 0, 0);
   if (by_colour) {
     const float line = float(o.colour_edge);
@@ -359,9 +360,11 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   // (starting from n through c; a level one's normal stays up), refitting it as the region doubles.
   std::vector<int> queue;
   std::vector<std::uint8_t> seen(std::size_t(cells), 0);
+  std::vector<int> before(by_colour ? std::size_t(cells) : 0);
   const auto grow = [&](int seed, Eigen::Vector3d n, Eigen::Vector3d c, PlaneSums& sums, bool level) {
     queue.assign(1, seed);
     seen[std::size_t(seed)] = 1;
+    if (by_colour) before[std::size_t(seed)] = seed;
     sums = PlaneSums{};
     sums.ref = g.p(seed);
     std::size_t next_fit = 128;  // the first refits wait for an extent that outweighs the noise
@@ -382,9 +385,12 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
         if (seen[std::size_t(j)] || !valid[std::size_t(j)] || label[std::size_t(j)] >= 0) continue;
         const Eigen::Vector3d pj = g.p(j);
         if (std::abs(pj.z() - pk.z()) > o.depth_jump * pk.z() || colour_edge(k, j)) continue;
-        if (!level && by_colour && on_line[std::size_t(j)]) continue;
+        if (by_colour && !level && before[std::size_t(k)] != k && !on_line[std::size_t(j)] &&
+            (cell_colour[std::size_t(before[std::size_t(k)])] - cell_colour[std::size_t(j)]).norm() > o.colour_edge)
+          continue;
         if (!on_plane(pj, n.dot(pj - c), level) || g.n(j).dot(n) < (level ? cos_level : cos_max)) continue;
         seen[std::size_t(j)] = 1;
+        if (by_colour) before[std::size_t(j)] = on_line[std::size_t(j)] ? before[std::size_t(k)] : j;
         queue.push_back(j);
       }
     }

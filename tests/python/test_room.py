@@ -186,6 +186,23 @@ def test_a_closed_door_in_the_plane_of_its_wall_is_its_own_patch():
                for o in result["objects"])
 
 
+def test_a_table_top_found_in_pieces_is_one_top():
+    """Rendered tuning room 9506: a table top seen at a grazing angle, whose rows' depth steps part
+    the growth's cells into two level pieces at one height. The pieces that touch are one patch,
+    so one table is reported (not two, one of them false), its top's longer side within 5 cm."""
+    import mereo
+
+    ev = _eval_room()
+    sf = mereo.synthetic.render(9506, mereo.synthetic.SceneOptions(room=True))
+    truth = json.loads(sf.truth_json())
+    top = next(p for o in truth["objects"] if o["model"] == "table" for p in o["parts"] if p["role"] == "top")
+    result, _ = ev.run(ev.room_graph(), sf.frame)
+    tables = [o for o in result["objects"] if o["accepted"] and "table" in [o["model"], *o["is_a"]]]
+    assert len(tables) == 1, [o["model"] for o in tables]
+    got = ev.found_sizes(ev.judged(tables[0]))
+    assert abs(got[0] - ev.true_sizes("table", top)[0]) < 0.05, got
+
+
 def test_cabinets_of_rendered_rooms_stand_out_of_their_walls(tmp_path):
     """A rendered room's cabinet against its back wall, seen square on, is one upright patch that
     stands out of the wall at both sides (far depth beyond them): a cabinet, and nothing else in

@@ -215,6 +215,56 @@ struct Found {
   bool takes_rim;  ///< upright with gravity known, or any without it
 };
 
+/// Level regions at one height that touch (points of both within `gap` metres) are one surface
+/// found in pieces: a table top seen at a grazing angle, where the rows' depth steps part the
+/// grid's cells. Each such set is merged into its first (largest-first order kept), its pixels,
+/// area and residual summed, its centre their mean; owner follows. Heights agree within the
+/// growth's tolerance at the nearer piece's depth.
+void join_level_pieces(const Cloud& cloud, const PatchOptions& o, const Eigen::Vector3d& up, double gap,
+                       std::vector<int>& owner, std::vector<Found>& found) {
+  const auto is_level = [&](const Found& f) { return f.normal.dot(up) > 1 - 1e-9; };
+  const auto point = [&](int i) {
+    const float* q = cloud.data() + 3 * std::size_t(i);
+    return Eigen::Vector3d(q[0], q[1], q[2]);
+  };
+  // a sample of each level piece's pixels (at most ~400) for the distance between pieces
+  std::vector<std::vector<Eigen::Vector3d>> sample(found.size());
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    if (!is_level(found[k])) continue;
+    const std::size_t step = std::max<std::size_t>(1, found[k].pixels.size() / 400);
+    for (std::size_t i = 0; i < found[k].pixels.size(); i += step) sample[k].push_back(point(found[k].pixels[i]));
+  }
+  const auto touch = [&](std::size_t a, std::size_t b) {
+    for (const auto& x : sample[a])
+      for (const auto& y : sample[b])
+        if ((x - y).norm() < gap) return true;
+    return false;
+  };
+  std::vector<int> into(found.size(), -1);
+  for (std::size_t a = 0; a < found.size(); ++a) {
+    if (!is_level(found[a]) || into[a] >= 0) continue;
+    for (std::size_t b = a + 1; b < found.size(); ++b) {
+      if (!is_level(found[b]) || into[b] >= 0) continue;
+      const double z = std::min(found[a].c.z(), found[b].c.z());
+      if (std::abs(up.dot(found[a].c - found[b].c)) > plane_tolerance(o.epsilon, z) || !touch(a, b)) continue;
+      Found& f = found[a];
+      const double na = double(f.pixels.size()), nb = double(found[b].pixels.size());
+      f.c = (f.c * na + found[b].c * nb) / (na + nb);
+      f.pixels.insert(f.pixels.end(), found[b].pixels.begin(), found[b].pixels.end());
+      f.area += found[b].area, f.sq += found[b].sq;
+      sample[a].insert(sample[a].end(), sample[b].begin(), sample[b].end());
+      into[b] = int(a);
+    }
+  }
+  std::vector<int> index(found.size(), -1);
+  std::vector<Found> kept;
+  for (std::size_t k = 0; k < found.size(); ++k)
+    if (into[k] < 0) index[k] = int(kept.size()), kept.push_back(std::move(found[k]));
+  for (int& w : owner)
+    if (w >= 0) w = index[std::size_t(into[std::size_t(w)] >= 0 ? into[std::size_t(w)] : w)];
+  found = std::move(kept);
+}
+
 /// PatchOptions::rim: rings of free pixels beside the patches that take a rim, o.rim of them, each
 /// pixel joining the neighbouring (4-connected) one whose plane lies nearest to it, within half the growth's
 /// tolerance and without a depth jump from that neighbour. Ring by ring, so that two patches that
@@ -498,6 +548,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
     const bool takes_rim = !up || std::abs(normal.dot(upn)) <= std::sin(o.upright_deg * detail::kDeg);
     found.push_back({normal, c, std::move(pixels), area, sq, takes_rim});
   }
+  if (up && o.level_deg > 0) join_level_pieces(cloud, o, upn, 0.05, owner, found);
   if (o.rim > 0) give_back_the_rim(cloud, o, a, owner, found);
   std::vector<Segment> out;
   for (Found& f : found) {

@@ -30,7 +30,8 @@ struct PatchOptions {
   /// to up, of cells whose normals lean no more than this from up (seeds: half of it); the others
   /// then as above. A seat or a table top seen at a grazing angle has the worst normals of a frame
   /// but well measured heights: grown on its plane it is found whole, its sizes within 2-3 cm.
-  /// 0: off.
+  /// Level pieces at one height whose points come within 5 cm are then one patch (a top seen at a
+  /// grazing angle, parted by its rows' depth steps). 0: off.
   double level_deg = 30.0;
   /// A level region narrower than this (its cells' thinner horizontal spread, as the side of a
   /// rectangle) is a band across an upright surface (a back, a wall, blinds' slats), not a level

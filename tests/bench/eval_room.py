@@ -187,6 +187,7 @@ def rendered(args) -> int:
     need = {c: 0 for c in FURNITURE}
     accepted = {c: 0 for c in FURNITURE}
     errors = {c: [] for c in FURNITURE}
+    whole = {c: [] for c in FURNITURE}  # the same for parts seen whole (99%: nothing of them hidden)
     door_kinds = {}
     specialized = {}  # (model, kind) -> [right, generic, wrong]
     times = []
@@ -243,6 +244,8 @@ def rendered(args) -> int:
             if got is not None and part_share >= 0.9:
                 want = true_sizes(t["model"], part)
                 errors[t["model"]].append((abs(got[0] - want[0]), abs(got[1] - want[1])))
+                if part_share >= 0.99:
+                    whole[t["model"]].append(errors[t["model"]][-1])
                 if max(abs(got[0] - want[0]), abs(got[1] - want[1])) > 0.05:  # named, to be looked at
                     line.append(f"{t['model']}'s {part['role']} {got[0]:.2f} x {got[1]:.2f} m for {want[0]:.2f} x {want[1]:.2f}")
         print(f"room {seed}: {', '.join(line) or 'nothing'}")
@@ -255,6 +258,9 @@ def rendered(args) -> int:
                f"{100 * np.median(e[:, 0]):.1f} / {100 * np.median(e[:, 1]):.1f} cm, "
                f"max {100 * e[:, 0].max():.1f} / {100 * e[:, 1].max():.1f} cm, "
                f"both within 5 cm {int((e.max(axis=1) <= 0.05).sum())}/{len(e)}") if len(e) else ""
+        w = np.asarray(whole[c]).reshape(-1, 2)
+        err += (f"; of those seen whole (99%), both within 5 cm {int((w.max(axis=1) <= 0.05).sum())}/{len(w)}, max "
+                f"{100 * w[:, 0].max():.1f} / {100 * w[:, 1].max():.1f} cm") if len(w) else ""
         print(f"{c:6s} recall {tp[c]}/{need[c]} = {tp[c] / max(1, need[c]):.2f}, precision {tp[c]}/{accepted[c]} = {prec:.2f}{err}")
     for k, (a, b) in sorted(door_kinds.items()):
         print(f"doors {k}: {a}/{b}")
@@ -263,7 +269,7 @@ def rendered(args) -> int:
     print(f"ms per frame (graph run, median): {np.median(times):.0f}; overlays in {out}")
     if args.json:
         Path(args.json).write_text(json.dumps({
-            "tp": tp, "need": need, "accepted": accepted, "size_errors": errors, "median_ms": float(np.median(times)),
+            "tp": tp, "need": need, "accepted": accepted, "size_errors": errors, "size_errors_whole": whole, "median_ms": float(np.median(times)),
             "specialized": {f"{m} {k}": v for (m, k), v in specialized.items()}}))
     return 0
 

@@ -1489,3 +1489,44 @@ TEST(Patches, ALevelPatchsFarEdgeIsHiddenByWhatStandsOnIt) {
     if (p.normal.dot(up) > 0.99) EXPECT_FALSE(p.top_hidden || p.bottom_hidden);
   }
 }
+
+// A patch's sides are read off the weighted quantiles of its pixels (each weighed by its
+// footprint): against the brute-force answer (sorted, the first value whose cumulative weight
+// reaches the share) on uneven samples, to within one of the 4096 bins over the range.
+TEST(Patches, WeightedQuantilesAgreeWithTheSortedAnswer) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(0, 1);
+  const auto sorted_answer = [](std::vector<std::pair<double, double>> xw, double share) {
+    std::sort(xw.begin(), xw.end());
+    double total = 0, sum = 0;
+    for (const auto& p : xw) total += p.second;
+    for (const auto& p : xw)
+      if ((sum += p.second) >= share * total) return p.first;
+    return xw.back().first;
+  };
+  for (int trial = 0; trial < 50; ++trial) {
+    const int n = 200 + int(5000 * U(rng));
+    std::vector<double> x, w;
+    std::vector<std::pair<double, double>> xw;
+    for (int i = 0; i < n; ++i) {
+      // dense at one end, sparse and heavy at the other (a top's near and far ends)
+      const double t = U(rng);
+      x.push_back(-0.6 + 1.3 * t * t), w.push_back(0.1 + 3 * t);
+      xw.emplace_back(x.back(), w.back());
+    }
+    const double bin = 1.3 / 4096;
+    for (const double q : {0.01, 0.02, 0.1}) {
+      const auto [lo, hi] = features::detail::weighted_quantiles(x, w, q);
+      EXPECT_NEAR(lo, sorted_answer(xw, q), 2 * bin) << "trial " << trial << ", q " << q;
+      EXPECT_NEAR(hi, sorted_answer(xw, 1 - q), 2 * bin) << "trial " << trial << ", q " << q;
+    }
+  }
+  // equal weights: the plain quantiles; one value, or none: no range
+  std::vector<double> x(1001), w(1001, 1.0);
+  for (int i = 0; i <= 1000; ++i) x[std::size_t(i)] = i / 1000.0;
+  const auto [lo, hi] = features::detail::weighted_quantiles(x, w, 0.02);
+  EXPECT_NEAR(lo, 0.02, 0.002);
+  EXPECT_NEAR(hi, 0.98, 0.002);
+  EXPECT_EQ(features::detail::weighted_quantiles({0.5}, {1.0}, 0.02), std::make_pair(0.5, 0.5));
+  EXPECT_EQ(features::detail::weighted_quantiles({}, {}, 0.02), std::make_pair(0.0, 0.0));
+}

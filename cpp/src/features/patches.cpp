@@ -581,14 +581,16 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
     }
     if (up) edges(cloud, pixels, a, upright, c, o.epsilon, patch);
     const Eigen::Vector3d v_axis = patch.normal.cross(patch.u_axis).normalized();
-    std::vector<double> su, sv;
-    su.reserve(pts.size()), sv.reserve(pts.size());
-    for (const auto& x : pts) su.push_back(patch.u_axis.dot(x - c)), sv.push_back(v_axis.dot(x - c));
-    // robust to stray points: the 2nd to 98th percentiles, widened to the whole side as they are
-    // for points spread evenly over it
+    std::vector<double> su, sv, w;
+    su.reserve(pts.size()), sv.reserve(pts.size()), w.reserve(pts.size());
+    for (const auto& x : pts)
+      su.push_back(patch.u_axis.dot(x - c)), sv.push_back(v_axis.dot(x - c)), w.push_back(footprint(x, patch.normal, a));
+    // robust to stray points: the 2nd to 98th percentiles of the area (each pixel weighed by its
+    // footprint), widened to the whole side as they are for an area covered evenly; by pixel count,
+    // a top seen at a grazing angle was cut short at its far end, where a pixel covers the most
     constexpr double q = 0.02;
-    const double u0 = detail::quantile(su, q), u1 = detail::quantile(su, 1 - q);
-    const double v0 = detail::quantile(sv, q), v1 = detail::quantile(sv, 1 - q);
+    const auto [u0, u1] = detail::weighted_quantiles(su, w, q);
+    const auto [v0, v1] = detail::weighted_quantiles(sv, w, q);
     patch.size_u = (u1 - u0) / (1 - 2 * q), patch.size_v = (v1 - v0) / (1 - 2 * q), patch.area = area;
     patch.point = c + patch.u_axis * (u0 + u1) / 2 + v_axis * (v0 + v1) / 2;
     patch.canonical();

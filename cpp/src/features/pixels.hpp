@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -25,6 +26,31 @@ inline double quantile(std::vector<double>& v, double q) {
   const auto k = std::size_t(q * double(v.size() - 1));
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
   return v[k];
+}
+
+/// The weighted q- and (1 - q)-quantiles of x (weights w), read off a histogram of 4096 bins over
+/// its range, interpolated within a bin: within a bin of the sorted answer, in time linear in the
+/// points (a floor holds 100 000 pixels).
+inline std::pair<double, double> weighted_quantiles(const std::vector<double>& x, const std::vector<double>& w, double q) {
+  if (x.empty()) return {0.0, 0.0};
+  const auto [mn, mx] = std::minmax_element(x.begin(), x.end());
+  const double lo = *mn, hi = *mx;
+  if (!(hi > lo)) return {lo, hi};
+  constexpr int bins = 4096;
+  const double scale = bins / (hi - lo);
+  std::vector<double> h(bins, 0.0);
+  double total = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) h[std::size_t(std::min(bins - 1, int((x[i] - lo) * scale)))] += w[i], total += w[i];
+  const auto at = [&](double target) {
+    double sum = 0;
+    for (int b = 0; b < bins; ++b) {
+      const double hb = h[std::size_t(b)];
+      if (hb > 0 && sum + hb >= target) return lo + (b + (target - sum) / hb) / scale;
+      sum += hb;
+    }
+    return hi;
+  };
+  return {at(q * total), at((1 - q) * total)};
 }
 
 inline bool finite3(const float* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }

@@ -1530,3 +1530,47 @@ TEST(Patches, WeightedQuantilesAgreeWithTheSortedAnswer) {
   EXPECT_EQ(features::detail::weighted_quantiles({0.5}, {1.0}, 0.02), std::make_pair(0.5, 0.5));
   EXPECT_EQ(features::detail::weighted_quantiles({}, {}, 0.02), std::make_pair(0.0, 0.0));
 }
+
+// flush: a piece of wall parted from the rest by what stands before it lies in the plane of that
+// wall; what stands before it (a pillar's front 0.3 m out, a leaf ajar) does not, nor does the
+// larger piece. Ray-cast: a wall 4 m ahead, a pillar 0.4 m wide from floor to ceiling before it,
+// leaving a 0.6 m strip of wall at its right, and a door leaf ajar at the left.
+TEST(Patches, APieceOfWallBesideWhatPartsItIsFlushWithTheWall) {
+  const Eigen::Matrix3d room_from_camera =
+      Eigen::AngleAxisd(-10 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Vector3d down(0, 1, 0), back(0, 0, -1), x(1, 0, 0);
+  const std::vector<RoomRect> rects = {
+      {{0, 1.3, 3}, -down, x, 8, 8},                                   // floor
+      {{0, 0.0, 4.0}, back, x, 8, 2.6},                                // wall, floor to 2.6 m
+      {{0.9, 0.0, 3.7}, back, x, 0.4, 2.6},                            // the pillar's front
+      {{0.7, 0.0, 3.85}, -x, Eigen::Vector3d(0, 0, 1), 0.3, 2.6},      // ... its sides
+      {{1.1, 0.0, 3.85}, x, Eigen::Vector3d(0, 0, 1), 0.3, 2.6},
+      {{-1.3, 0.3, 3.7}, Eigen::Vector3d(0.5, 0, -0.866), Eigen::Vector3d(0.866, 0, 0.5), 0.9, 2.0}};  // a leaf ajar
+  const Cloud cloud = ray_cast_room(rects, room_from_camera);
+  const Eigen::Vector3d up = room_from_camera.transpose() * -down;
+  const auto patches = features::planar_patches(cloud, extension::estimate_normals(cloud), {}, &up);
+  // the upright patch whose centre lies nearest to a room point, in the camera frame
+  const auto upright_at = [&](const Eigen::Vector3d& room_point) -> const shapes::Patch* {
+    const Eigen::Vector3d c = room_from_camera.transpose() * room_point;
+    const shapes::Patch* best = nullptr;
+    for (const auto& s : patches) {
+      const auto& p = s.as<shapes::Patch>();
+      if (std::abs(p.normal.dot(up)) < 0.1 && (!best || (p.point - c).norm() < (best->point - c).norm())) best = &p;
+    }
+    return best;
+  };
+  const auto* wall = upright_at({-0.5, 0.0, 4.0});
+  const auto* strip = upright_at({1.8, 0.0, 4.0});
+  const auto* pillar = upright_at({0.9, 0.0, 3.7});
+  const auto* leaf = upright_at({-1.3, 0.3, 3.7});
+  ASSERT_TRUE(wall && strip && pillar && leaf);
+  ASSERT_NE(wall, strip);
+  EXPECT_GT(wall->area, strip->area);
+  EXPECT_LT(std::abs(strip->normal.dot(wall->point - strip->point)), 0.01);  // one plane
+  EXPECT_TRUE(strip->flush);
+  EXPECT_FALSE(wall->flush);
+  EXPECT_FALSE(pillar->flush);
+  EXPECT_FALSE(leaf->flush);
+  EXPECT_EQ(*strip->attribute("flush"), 1.0);
+  EXPECT_EQ(*wall->attribute("flush"), 0.0);
+}

@@ -189,6 +189,20 @@ def test_a_closed_door_in_the_plane_of_its_wall_is_its_own_patch():
                for o in result["objects"])
 
 
+def test_a_piece_of_wall_beside_a_door_is_no_door(tmp_path):
+    """Rendered tuning rooms 9516 and 9519: beside the door, a strip of wall parted from the rest
+    of its wall by the door stands from the floor to door height, as wide as a door. It lies in the
+    plane of the larger wall (`flush`); the door's leaf lies off it by its depth. One door is
+    reported in each, the true one (eval_room.py --rendered: before `flush`, a second, false door
+    on the wall in each)."""
+    ev = _eval_room()
+    for seed in (9516, 9519):
+        out = tmp_path / f"{seed}.json"
+        assert ev.main(["--rendered", "1", "--first", str(seed), "--out", str(tmp_path), "--json", str(out)]) == 0
+        figures = json.loads(out.read_text())
+        assert figures["tp"]["door"] == figures["need"]["door"] == figures["accepted"]["door"] == 1, (seed, figures)
+
+
 def test_a_table_top_found_in_pieces_is_one_top():
     """Rendered tuning room 9506: a table top seen at a grazing angle, whose rows' depth steps part
     the growth's cells into two level pieces at one height. The pieces that touch are one patch,

@@ -24,6 +24,7 @@ void Patch::fields(FieldList& out, bool) const {
   out.push_back({"top_hidden", top_hidden});
   out.push_back({"bottom_hidden", bottom_hidden});
   out.push_back({"far_hidden", far_hidden});
+  out.push_back({"flush", flush});
   out.push_back({"side_cut", side_cut});
   if (std::isfinite(stands_out)) out.push_back({"stands_out", stands_out});
 }
@@ -38,10 +39,13 @@ bool Patch::set_field(const std::string& key, const FieldValue& v) {
   if (key == "open_below" && number(v)) return open_below = *number(v), true;
   if (key == "side_cut" && number(v)) return side_cut = *number(v), true;
   if (key == "stands_out" && number(v)) return stands_out = *number(v), true;
-  if (key == "top_hidden" || key == "bottom_hidden" || key == "far_hidden") {
+  if (key == "top_hidden" || key == "bottom_hidden" || key == "far_hidden" || key == "flush") {
     const bool* b = std::get_if<bool>(&v);
     if (!b && !number(v)) return false;
-    (key == "top_hidden" ? top_hidden : key == "bottom_hidden" ? bottom_hidden : far_hidden) = b ? *b : *number(v) != 0;
+    (key == "top_hidden"      ? top_hidden
+     : key == "bottom_hidden" ? bottom_hidden
+     : key == "far_hidden"    ? far_hidden
+                              : flush) = b ? *b : *number(v) != 0;
     return true;
   }
   return false;
@@ -56,6 +60,7 @@ std::optional<double> Patch::attribute(const std::string& key) const {
   if (key == "top_hidden") return top_hidden ? 1.0 : 0.0;
   if (key == "bottom_hidden") return bottom_hidden ? 1.0 : 0.0;
   if (key == "far_hidden") return far_hidden ? 1.0 : 0.0;
+  if (key == "flush") return flush ? 1.0 : 0.0;
   if (key == "view_deg" && point.norm() > 0)
     return std::acos(std::min(1.0, std::abs(normal.normalized().dot(point.normalized())))) * 180.0 / M_PI;
   if (key == "stands_out") return std::isfinite(stands_out) ? std::optional<double>(stands_out) : std::nullopt;

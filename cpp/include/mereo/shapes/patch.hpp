@@ -16,9 +16,12 @@
 // `side_cut` (the share of its rows that run out of the image at its left or right side: its
 // width there is not its own), `stands_out` (an upright patch's: the share of its rows' left and
 // right ends, inside the image, beyond which the depth lies far behind: 1 for a cabinet's front
-// before its wall, 0 for a piece of wall or a closed door in it; NaN unmeasured). Attributes:
+// before its wall, 0 for a piece of wall or a closed door in it; NaN unmeasured), `flush` (an
+// upright patch whose centre lies within 1 cm of the plane of a larger upright patch parallel to
+// it: a piece of that wall parted from the rest by what stands before it; a closed door's leaf
+// lies a leaf's or a frame's depth off its wall). Attributes:
 // `length`, `width` (the rectangle's longer and shorter side), `area`, `open_below`, `side_cut`,
-// `stands_out`, `top_hidden`, `bottom_hidden` and `far_hidden` (0 or 1), `view_deg` (the angle between its
+// `stands_out`, `top_hidden`, `bottom_hidden`, `far_hidden` and `flush` (0 or 1), `view_deg` (the angle between its
 // normal and the line of sight to its centre, in the frame it was found in: 0 seen square on). Not
 // detected by RANSAC: found by features::planar_patches; models name it (graphs/models/room.yaml).
 #pragma once
@@ -33,10 +36,10 @@ namespace mereo::shapes {
 struct Patch : Undetected<Patch> {
   static constexpr const char* name = "patch";
   static constexpr bool thin = false, solid = false, curved = false, view_centred = false;
-  static constexpr std::array<const char*, 10> attributes = {"length",       "width",         "area",
+  static constexpr std::array<const char*, 11> attributes = {"length",       "width",         "area",
                                                             "open_below",   "side_cut",      "stands_out",
                                                             "top_hidden",   "bottom_hidden", "far_hidden",
-                                                            "view_deg"};  ///< names of attribute()
+                                                            "flush",        "view_deg"};  ///< names of attribute()
 
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
@@ -45,6 +48,7 @@ struct Patch : Undetected<Patch> {
   double open_below = std::nan("");
   bool top_hidden = false, bottom_hidden = false;  ///< an upright patch's upper, lower edge hidden
   bool far_hidden = false;                          ///< a level patch's far edge hidden
+  bool flush = false;                               ///< upright, in the plane of a larger upright patch
   double side_cut = 0.0;                            ///< the share of its rows cut by the image's sides
   double stands_out = std::nan("");                 ///< the share of its sides before far depth
 

@@ -401,6 +401,10 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   // measured well (a depth error along the ray moves a point up only by its share of up), and
   // their normals need only lean towards up (not a back, a wall or a door).
   const Eigen::Vector3d upn = up ? Eigen::Vector3d(up->normalized()) : Eigen::Vector3d::Zero();
+  // with gravity: a plane that stands within upright_deg of vertical (a wall, a door, a back)
+  const auto is_upright = [&](const Eigen::Vector3d& n) {
+    return up && std::abs(n.dot(upn)) <= std::sin(o.upright_deg * detail::kDeg);
+  };
   const double cos_level = std::cos(o.level_deg * detail::kDeg), cos_seed = std::cos(0.5 * o.level_deg * detail::kDeg);
   // whether x, `dist` from a patch's plane, lies on it
   const auto on_plane = [&](const Eigen::Vector3d& x, double dist, bool level) {
@@ -546,7 +550,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       if (detail::quantile(z, 0.5) > o.max_depth) continue;
     }
     for (int i : pixels) owner[std::size_t(i)] = int(found.size());
-    const bool takes_rim = !up || std::abs(normal.dot(upn)) <= std::sin(o.upright_deg * detail::kDeg);
+    const bool takes_rim = !up || is_upright(normal);
     found.push_back({normal, c, std::move(pixels), area, sq, takes_rim});
   }
   if (up && o.level_deg > 0) join_level_pieces(cloud, o, upn, 0.05, owner, found);
@@ -565,7 +569,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
       const float* q = cloud.data() + 3 * std::size_t(i);
       pts.emplace_back(q[0], q[1], q[2]);
     }
-    const bool upright = up && std::abs(patch.normal.dot(up->normalized())) <= std::sin(o.upright_deg * detail::kDeg);
+    const bool upright = is_upright(patch.normal);
     if (upright) {
       patch.u_axis = shapes::unit_across(up->normalized().cross(patch.normal), patch.normal);
     } else {
@@ -610,16 +614,13 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   // the rest by what stands before it (rendered tuning rooms 9500-9539: such pieces 0-2 mm off
   // their wall's plane, closed doors 23-47 mm)
   if (up) {
-    const auto upright = [&](const shapes::Patch& p) {
-      return std::abs(p.normal.dot(up->normalized())) <= std::sin(o.upright_deg * detail::kDeg);
-    };
     const double cos_parallel = std::cos(5 * detail::kDeg);
     for (std::size_t i = 1; i < out.size(); ++i) {
       auto& p = out[i].as<shapes::Patch>();
-      if (!upright(p)) continue;
+      if (!is_upright(p.normal)) continue;
       for (std::size_t j = 0; j < i && !p.flush; ++j) {
         const auto& q = out[j].as<shapes::Patch>();
-        p.flush = upright(q) && q.area > p.area && std::abs(q.normal.dot(p.normal)) >= cos_parallel &&
+        p.flush = is_upright(q.normal) && q.area > p.area && std::abs(q.normal.dot(p.normal)) >= cos_parallel &&
                   std::abs(q.normal.dot(p.point - q.point)) < 0.01;
       }
     }

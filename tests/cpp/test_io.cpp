@@ -113,6 +113,12 @@ TEST(PngPair, ClearErrors) {
   // A corrupt PNG.
   std::ofstream((dir / "a_depth.png").string(), std::ios::binary) << "\x89PNG\r\n\x1a\nthis is not a png";
   expect_error([&] { mereo::io::read((dir / "a_depth.png").string()); }, {"a_depth.png", "cannot decode"});
+  // A file of another format: OpenCV's DICOM decoder (GDCM) aborted the process on this header
+  // (the fuzzer's), so only PNG, PNM, JPEG, TIFF and OpenEXR files reach OpenCV
+  std::ofstream((dir / "a_depth.png").string(), std::ios::binary)
+      << std::string(128, '\xff') << "DICM" << std::string(16, '\xff');
+  expect_error([&] { mereo::io::read((dir / "a_depth.png").string()); },
+               {"a_depth.png", "not a PNG, PNM, JPEG, TIFF or OpenEXR image"});
   // A missing file; a pair with no intrinsics anywhere.
   expect_error([&] { mereo::io::read((dir / "nothing_depth.png").string()); }, {"nothing_depth.png", "no such"});
   const auto lone = scratch("png_noK");

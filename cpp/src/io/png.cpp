@@ -4,6 +4,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <optional>
 
 #include <nlohmann/json.hpp>
@@ -69,8 +70,22 @@ std::pair<long long, long long> header_size(const std::string& path) {
   return {0, 0};
 }
 
+/// Whether a file starts with the signature of a format read here: PNG, PNM, JPEG, TIFF or
+/// OpenEXR. OpenCV picks its decoder by the signature, and some decoders abort the process on a
+/// corrupt file rather than fail (a DICOM header, read through GDCM, asserted under the fuzzer).
+bool known_format(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[4] = {0, 0, 0, 0};
+  in.read(reinterpret_cast<char*>(b), 4);
+  if (in.gcount() < 4) return false;
+  const auto is = [&](std::initializer_list<int> sig) { return std::equal(sig.begin(), sig.end(), b); };
+  return is({0x89, 'P', 'N', 'G'}) || (b[0] == 'P' && b[1] >= '1' && b[1] <= '6') || is({0xff, 0xd8, 0xff}) ||
+         is({'I', 'I', 42, 0}) || is({'M', 'M', 0, 42}) || is({0x76, 0x2f, 0x31, 0x01});
+}
+
 cv::Mat read_image(const std::string& path, int flags) {
   require_file(path);
+  if (!known_format(path)) throw InputError(path + ": not a PNG, PNM, JPEG, TIFF or OpenEXR image");
   const auto [w, h] = header_size(path);
   if (w < 0) throw InputError(path + ": cannot decode the image (corrupt header)");
   if (w > kMaxPixels || h > kMaxPixels || w * h > kMaxPixels)  // (each first: no overflow)

@@ -26,16 +26,12 @@ namespace {
 /// The most pixels an image may have (as for PCD files: 8K x 4K).
 constexpr long long kMaxPixels = 1LL << 25;
 
-/// Width and height from the header of a PNG, PNM (PPM, PGM) or JPEG file (0, 0 for any other
+/// Width and height from a file's first bytes, the header of a PNG, PNM (PPM, PGM) or JPEG (0, 0 for any other
 /// format, or a header too short to tell; -1, -1 for a corrupt one: a PNG without IHDR first, a
 /// PNM header that is not two numbers). OpenCV allocates what a header claims before it
 /// decodes (up to 2^30 pixels, a limit fixed when it loads): a corrupt PPM header took 2.3 GB
 /// under the fuzzer.
-std::pair<long long, long long> header_size(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(64 * 1024, '\0');
-  in.read(head.data(), std::streamsize(head.size()));
-  head.resize(std::size_t(in.gcount()));
+std::pair<long long, long long> header_size(const std::string& head) {
   const auto* b = reinterpret_cast<const unsigned char*>(head.data());
   auto be = [&](std::size_t i, int n) {
     long long v = 0;
@@ -73,11 +69,9 @@ std::pair<long long, long long> header_size(const std::string& path) {
 /// Whether a file starts with the signature of a format read here: PNG, PNM, JPEG, TIFF or
 /// OpenEXR. OpenCV picks its decoder by the signature, and some decoders abort the process on a
 /// corrupt file rather than fail (a DICOM header, read through GDCM, asserted under the fuzzer).
-bool known_format(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char b[4] = {0, 0, 0, 0};
-  in.read(reinterpret_cast<char*>(b), 4);
-  if (in.gcount() < 4) return false;
+bool known_format(const std::string& head) {
+  if (head.size() < 4) return false;
+  const auto* b = reinterpret_cast<const unsigned char*>(head.data());
   const auto is = [&](std::initializer_list<int> sig) { return std::equal(sig.begin(), sig.end(), b); };
   return is({0x89, 'P', 'N', 'G'}) || (b[0] == 'P' && b[1] >= '1' && b[1] <= '6') || is({0xff, 0xd8, 0xff}) ||
          is({'I', 'I', 42, 0}) || is({'M', 'M', 0, 42}) || is({0x76, 0x2f, 0x31, 0x01});
@@ -85,8 +79,14 @@ bool known_format(const std::string& path) {
 
 cv::Mat read_image(const std::string& path, int flags) {
   require_file(path);
-  if (!known_format(path)) throw InputError(path + ": not a PNG, PNM, JPEG, TIFF or OpenEXR image");
-  const auto [w, h] = header_size(path);
+  std::string head(64 * 1024, '\0');  // the file's first 64 KB: its signature and header
+  {
+    std::ifstream in(path, std::ios::binary);
+    in.read(head.data(), std::streamsize(head.size()));
+    head.resize(std::size_t(in.gcount()));
+  }
+  if (!known_format(head)) throw InputError(path + ": not a PNG, PNM, JPEG, TIFF or OpenEXR image");
+  const auto [w, h] = header_size(head);
   if (w < 0) throw InputError(path + ": cannot decode the image (corrupt header)");
   if (w > kMaxPixels || h > kMaxPixels || w * h > kMaxPixels)  // (each first: no overflow)
     throw InputError(path + ": the image's header says " + std::to_string(w) + "x" + std::to_string(h) +

@@ -402,9 +402,8 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
   // their normals need only lean towards up (not a back, a wall or a door).
   const Eigen::Vector3d upn = up ? Eigen::Vector3d(up->normalized()) : Eigen::Vector3d::Zero();
   // with gravity: a plane that stands within upright_deg of vertical (a wall, a door, a back)
-  const auto is_upright = [&](const Eigen::Vector3d& n) {
-    return up && std::abs(n.dot(upn)) <= std::sin(o.upright_deg * detail::kDeg);
-  };
+  const double sin_upright = std::sin(o.upright_deg * detail::kDeg);
+  const auto is_upright = [&](const Eigen::Vector3d& n) { return up && std::abs(n.dot(upn)) <= sin_upright; };
   const double cos_level = std::cos(o.level_deg * detail::kDeg), cos_seed = std::cos(0.5 * o.level_deg * detail::kDeg);
   // whether x, `dist` from a patch's plane, lies on it
   const auto on_plane = [&](const Eigen::Vector3d& x, double dist, bool level) {
@@ -571,7 +570,7 @@ std::vector<Segment> planar_patches(const Cloud& cloud, const NormalMap& normals
     }
     const bool upright = is_upright(patch.normal);
     if (upright) {
-      patch.u_axis = shapes::unit_across(up->normalized().cross(patch.normal), patch.normal);
+      patch.u_axis = shapes::unit_across(upn.cross(patch.normal), patch.normal);
     } else {
       const Eigen::Vector3d e0 = patch.normal.unitOrthogonal(), e1 = patch.normal.cross(e0);
       Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();

@@ -61,10 +61,8 @@ constexpr double kGrowReach = 0.01;
 /// leaning cone hugging the visible side of a partly hidden body holds about as many as the
 /// upright body does (stereo seed 5010).
 constexpr double kReplace = 1.0;
-/// The search stops after this many rounds in a row whose best candidate did not hold. A large
-/// free-form object (a box, a drill) offers circles of large components round after round that
-/// all fail; at 6 they ended the search before a mug beside them was tried (stereo seed 9019).
-constexpr int kMaxFailed = 20;
+/// The search stops after this many rounds in a row whose best candidate did not hold.
+constexpr int kMaxFailed = 6;
 /// Segments found bottom-up whose axis is within acos(kUprightCos) of up (10 degrees) are upright
 /// bodies already: no seeds are drawn on them, unless they are narrow strips (narrow_strip).
 constexpr double kUprightCos = 0.985;

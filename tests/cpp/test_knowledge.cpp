@@ -82,6 +82,13 @@ TEST(Predicates, HandleOnBodyAndItsLookalikes) {
   // a ring above the body's top: not within its height
   const Segment high = torus({0.04 + k * R, -0.1, 1}, {0, 0, 1}, R, 0.006);
   EXPECT_DOUBLE_EQ(evaluate(inter, {&high, &body}, ctx), 0.0);
+  // inset: the ring's centre at mid-height passes; 4 mm under the top end it is within the
+  // height but not 12 mm inside it (a ring fitted to a tapered cup's rim)
+  Constraint inset{"intersects", {"handle", "body"}, {{"tolerance", 0.004}, {"inset", 0.012}}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(inset, {&handle, &body}, ctx), 1.0);
+  const Segment rim = torus({0.04 + k * R, -0.046, 1}, {0, 0, 1}, R, 0.006);
+  EXPECT_DOUBLE_EQ(evaluate(inter, {&rim, &body}, ctx), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(inset, {&rim, &body}, ctx), 0.0);
   // ring plane not containing the axis direction
   const Segment flat = torus({0.04 + k * R, 0, 1}, up, R, 0.006);
   EXPECT_DOUBLE_EQ(evaluate(perp, {&flat, &body}, ctx), 0.0);

@@ -548,6 +548,13 @@ void search_upright(Pixels& f, const Eigen::Vector4d& support, std::vector<Segme
       double r = cyl.radius;
       refit_circle(h.q, h.huber, c, r);
       if (!(r >= min_r && r <= max_r)) {
+        // flatter than any body (a box's face): the whole surface that fits the refit circle is
+        // seeded no more, or the next rounds draw strips of it one by one
+        if (r > max_r && std::isfinite(r) && std::isfinite(c.x()) && std::isfinite(c.y())) {
+          cyl = upright_cylinder(pl, c, r, h.height);
+          const auto face = g.component(s, seed, 1);
+          component.insert(component.end(), face.begin(), face.end());
+        }
         pix.clear();
         break;
       }

@@ -50,23 +50,25 @@ double near(const Segment& a, const Segment& b, const Constraint& c) {
   return falling(gap, 0.0, param(c, "max", 0.01));
 }
 
-/// The handle-on-body function of Kasprzak et al.: a torus (handle) and a cylinder (body).
-double handle_on_body(const shapes::Torus& torus, const shapes::Cylinder& body, double tol) {
+/// The handle-on-body function of Kasprzak et al.: a torus (handle) and a cylinder (body); the
+/// torus centre lies `inset` or more inside either end of the body (a handle's roots are on the
+/// wall, above and below its centre).
+double handle_on_body(const shapes::Torus& torus, const shapes::Cylinder& body, double tol, double inset) {
   const Eigen::Vector3d axis = body.axis.normalized();
   const Eigen::Vector3d q = torus.center - body.point;
   const double along = axis.dot(q);
   const double d = (q - axis * along).norm();
   const double inner_inside = ramp(body.radius - (d - torus.major_radius), tol);  // d - R < r_body
   const double outer_outside = ramp((d + torus.major_radius) - body.radius, tol);  // d + R > r_body
-  const double within_height = ramp(body.height / 2 - std::abs(along), tol);
+  const double within_height = ramp(body.height / 2 - inset - std::abs(along), tol);
   return std::min({inner_inside, outer_outside, within_height});
 }
 
 double intersects(const Segment& a, const Segment& b, const Constraint& c) {
-  const double tol = param(c, "tolerance", 0.003);
+  const double tol = param(c, "tolerance", 0.003), inset = param(c, "inset", 0.0);
   using shapes::Cylinder, shapes::Torus;
-  if (a.is<Torus>() && b.is<Cylinder>()) return handle_on_body(a.as<Torus>(), b.as<Cylinder>(), tol);
-  if (a.is<Cylinder>() && b.is<Torus>()) return handle_on_body(b.as<Torus>(), a.as<Cylinder>(), tol);
+  if (a.is<Torus>() && b.is<Cylinder>()) return handle_on_body(a.as<Torus>(), b.as<Cylinder>(), tol, inset);
+  if (a.is<Cylinder>() && b.is<Torus>()) return handle_on_body(b.as<Torus>(), a.as<Cylinder>(), tol, inset);
   return ramp(b.extent() - a.surface_distance(b.origin()), tol);
 }
 
@@ -252,7 +254,7 @@ double stacked_px(const Segment& a, const Segment& b, const Constraint& c) {
 const std::map<std::string, std::vector<std::string>>& predicate_table() {
   static const std::map<std::string, std::vector<std::string>> t = {
       {"near", {"max"}},
-      {"intersects", {"tolerance"}},
+      {"intersects", {"tolerance", "inset"}},
       {"parallel", {"tolerance_deg"}},
       {"perpendicular", {"tolerance_deg"}},
       {"coaxial", {"tolerance_deg", "distance"}},

@@ -5,10 +5,11 @@
 //  - near(a, b; max = 0.01 m): 1 when the surfaces touch, falling to 0 at a gap of `max`; the gap
 //    is the larger of the two lower bounds dist(a's surface, b's centre) - extent(b) and vice
 //    versa (extent = bounding-sphere radius about the centre);
-//  - intersects(a, b; tolerance = 0.003 m): for a torus and a cylinder the handle-on-body
-//    function of Kasprzak et al.: the ring's inner edge (d - R_t, d = distance of the torus
-//    centre to the body axis) lies inside the body radius and its outer edge outside it, and the
-//    torus centre lies within the body's height; each condition a ramp of width 2*tolerance.
+//  - intersects(a, b; tolerance = 0.003 m, inset = 0 m): for a torus and a cylinder the
+//    handle-on-body function of Kasprzak et al.: the ring's inner edge (d - R_t, d = distance of
+//    the torus centre to the body axis) lies inside the body radius and its outer edge outside
+//    it, and the torus centre lies within the body's height, `inset` or more from either end;
+//    each condition a ramp of width 2*tolerance.
 //    Other pairs: a's surface distance to b's centre is within b's extent;
 //  - parallel / perpendicular(a, b; tolerance_deg = 10): angle between their axes (cylinder and
 //    line axis, plane normal, torus/arc ring normal), 1 within tolerance, 0 beyond 2*tolerance;

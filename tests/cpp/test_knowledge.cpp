@@ -89,6 +89,14 @@ TEST(Predicates, HandleOnBodyAndItsLookalikes) {
   const Segment rim = torus({0.04 + k * R, -0.046, 1}, {0, 0, 1}, R, 0.006);
   EXPECT_DOUBLE_EQ(evaluate(inter, {&rim, &body}, ctx), 1.0);
   EXPECT_DOUBLE_EQ(evaluate(inset, {&rim, &body}, ctx), 0.0);
+  // protrudes: the handle's outer edge 4 cm past the wall; a ring hugging the wall (fitted to a
+  // tapered cup's flaring side) 5 mm past it; 17 mm is halfway up the ramp from 16 to 18 mm
+  Constraint out{"protrudes", {"handle", "body"}, {{"min", 0.018}, {"margin", 0.002}}, {}, {}};
+  EXPECT_DOUBLE_EQ(evaluate(out, {&handle, &body}, ctx), 1.0);
+  const Segment hugging = torus({0.025, 0, 1}, {0, 0, 1}, 0.02, 0.006);
+  EXPECT_DOUBLE_EQ(evaluate(out, {&hugging, &body}, ctx), 0.0);
+  const Segment halfway = torus({0.037, 0, 1}, {0, 0, 1}, 0.02, 0.006);
+  EXPECT_NEAR(evaluate(out, {&halfway, &body}, ctx), 0.5, 1e-9);
   // ring plane not containing the axis direction
   const Segment flat = torus({0.04 + k * R, 0, 1}, up, R, 0.006);
   EXPECT_DOUBLE_EQ(evaluate(perp, {&flat, &body}, ctx), 0.0);

@@ -468,6 +468,16 @@ def test_a_ring_near_a_bodys_end_is_no_handle():
     assert mug.results == mug.correct, e.mistakes
 
 
+def test_a_ring_hugging_a_bodys_wall_is_no_handle():
+    """Rendered stereo frames 4504 and 9016 (tuning seeds of issue 18): a ring fitted to a body's
+    own wall (a tapered cup's flaring side) or a colour silhouette pressed against it reached only
+    9-16 mm past the wall, and made a mug of a cup. A handle stands out of its wall by 18 mm or more
+    (the mug's `protrudes` constraint; mugs' handles 2-4 cm): no mug is reported where there is none."""
+    _, e = _rendered_freeform((4504, 9016), depth_model="stereo")
+    mug = e.models.get("mug", ev.ModelStats())
+    assert mug.results == mug.correct, e.mistakes
+
+
 def _true_body(t):
     """A true object's body: its centre (camera frame) and radius."""
     b = ev._body(t["parts"]) or ev._body(t["parts"], "cone") or ev._body(t["parts"], "sphere")

@@ -93,6 +93,21 @@ double radial(const Segment& a, const Segment& b, const Constraint& c) {
   const double angle = std::acos(std::min(1.0, std::abs(a.direction()->normalized().dot(plane_normal)))) / kDeg;
   return falling(angle, tol, 2 * tol);
 }
+/// a stands out of b's wall by `min` or more: a torus's outer edge beyond a cylinder's radius
+/// (d + R - r), otherwise a's farthest reach past b's surface (its extent past the distance of its
+/// centre); 0 at min - margin, 1 at min.
+double protrudes(const Segment& a, const Segment& b, const Constraint& c) {
+  const double min = param(c, "min", 0.015), margin = param(c, "margin", 0.005);
+  double reach = 0;
+  if (a.is<shapes::Torus>() && b.is<shapes::Cylinder>()) {
+    const auto& t = a.as<shapes::Torus>();
+    const auto& cyl = b.as<shapes::Cylinder>();
+    reach = distance_to_line(t.center, cyl.point, cyl.axis) + t.major_radius - cyl.radius;
+  } else {
+    reach = b.surface_distance(a.origin()) + a.extent();
+  }
+  return rising(reach, min - margin, margin);
+}
 double coaxial(const Segment& a, const Segment& b, const Constraint& c) {
   const double dist = param(c, "distance", 0.01);
   return std::min(parallel(a, b, c), falling(distance_to_line(b.origin(), a.origin(), *a.direction()), dist, 2 * dist));
@@ -259,6 +274,7 @@ const std::map<std::string, std::vector<std::string>>& predicate_table() {
       {"perpendicular", {"tolerance_deg"}},
       {"coaxial", {"tolerance_deg", "distance"}},
       {"radial", {"tolerance_deg"}},
+      {"protrudes", {"min", "margin"}},
       {"above", {"margin"}},
       {"on", {"tolerance"}},
       {"under", {"min", "max", "reach", "margin"}},
@@ -402,6 +418,8 @@ CompiledConstraint compile(const Constraint& c) {
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
       return has_axis(a) && has_axis(b) ? radial(a, b, k) : 0.0;
     };
+  else if (p == "protrudes")
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return protrudes(a, b, k); };
   else if (p == "coaxial")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
       return has_axis(a) && has_axis(b) ? coaxial(a, b, k) : 0.0;

@@ -17,6 +17,9 @@
 //  - radial(a, b; tolerance_deg = 10): a's ring (torus, arc) lies in a plane through b's axis (its
 //    normal is perpendicular to the plane of b's axis and a's centre), as a handle stands out
 //    from its body; 0 when a's centre is on b's axis;
+//  - protrudes(a, b; min = 0.015 m, margin = 0.005 m): a stands out of b's wall by min or more (a
+//    torus and a cylinder: its outer edge d + R_t beyond the body radius; other pairs: a's centre's
+//    distance to b's surface plus a's extent), 0 at min - margin;
 //  - above(a, b; margin = 0.01 m): a's centre higher than b's along `up`, ramp over `margin`;
 //  - on(a, b; tolerance = 0.01 m): a's lowest point at b's top (along `up`), and a's centre over
 //    b (horizontal distance within b's extent);

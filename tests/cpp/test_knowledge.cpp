@@ -89,6 +89,14 @@ TEST(Predicates, HandleOnBodyAndItsLookalikes) {
   const Segment rim = torus({0.04 + k * R, -0.046, 1}, {0, 0, 1}, R, 0.006);
   EXPECT_DOUBLE_EQ(evaluate(inter, {&rim, &body}, ctx), 1.0);
   EXPECT_DOUBLE_EQ(evaluate(inset, {&rim, &body}, ctx), 0.0);
+  // the body's upper 4 cm seen (its foot hidden by something in front): the handle lies below the
+  // seen part's lower end; with the support under the body its lower end is taken there
+  const Segment upper = cylinder({0, -0.03, 1}, up, 0.04, 0.04);
+  EXPECT_DOUBLE_EQ(evaluate(inset, {&handle, &upper}, ctx), 0.0);
+  Context on_table = ctx;
+  on_table.support_d = 0.05;  // the table at y = 0.05, the whole body's foot
+  EXPECT_DOUBLE_EQ(evaluate(inset, {&handle, &upper}, on_table), 1.0);
+  EXPECT_DOUBLE_EQ(evaluate(inset, {&rim, &body}, on_table), 0.0);  // the upper end stays
   // protrudes: the handle's outer edge 4 cm past the wall; a ring hugging the wall (fitted to a
   // tapered cup's flaring side) 5 mm past it; 17 mm is halfway up the ramp from 16 to 18 mm
   Constraint out{"protrudes", {"handle", "body"}, {{"min", 0.018}, {"margin", 0.002}}, {}, {}};

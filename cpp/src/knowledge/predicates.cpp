@@ -52,23 +52,36 @@ double near(const Segment& a, const Segment& b, const Constraint& c) {
 
 /// The handle-on-body function of Kasprzak et al.: a torus (handle) and a cylinder (body); the
 /// torus centre lies `inset` or more inside either end of the body (a handle's roots are on the
-/// wall, above and below its centre).
-double handle_on_body(const shapes::Torus& torus, const shapes::Cylinder& body, double tol, double inset) {
-  const Eigen::Vector3d axis = body.axis.normalized();
+/// wall, above and below its centre). An upright body stands on the support (`rest_gap` judges
+/// that): where its seen lower end lies kFootHidden or more above the support, something in front
+/// hides its foot, and its lower end is taken at the support (a short body whose seen middle is
+/// above its handle); a seen foot keeps its fitted end (a ring at a jar's foot is no handle).
+double handle_on_body(const shapes::Torus& torus, const shapes::Cylinder& body, double tol, double inset,
+                      const Context& ctx) {
+  constexpr double kUprightCos = 0.9;    // within ~25 degrees of up
+  constexpr double kFootHidden = 0.025;  // metres; seen feet lie within ~1 cm of the support
+  Eigen::Vector3d axis = body.axis.normalized();
+  const double up_share = axis.dot(ctx.up.normalized());
+  if (up_share < 0) axis = -axis;
   const Eigen::Vector3d q = torus.center - body.point;
   const double along = axis.dot(q);
   const double d = (q - axis * along).norm();
   const double inner_inside = ramp(body.radius - (d - torus.major_radius), tol);  // d - R < r_body
   const double outer_outside = ramp((d + torus.major_radius) - body.radius, tol);  // d + R > r_body
-  const double within_height = ramp(body.height / 2 - inset - std::abs(along), tol);
+  double lower = -body.height / 2;
+  if (std::isfinite(ctx.support_d) && std::abs(up_share) >= kUprightCos) {
+    const double centre_up = ctx.up.normalized().dot(body.point) + ctx.support_d;  // centre's height
+    if (centre_up - std::abs(up_share) * body.height / 2 >= kFootHidden) lower = -centre_up / std::abs(up_share);
+  }
+  const double within_height = std::min(ramp(along - lower - inset, tol), ramp(body.height / 2 - inset - along, tol));
   return std::min({inner_inside, outer_outside, within_height});
 }
 
-double intersects(const Segment& a, const Segment& b, const Constraint& c) {
+double intersects(const Segment& a, const Segment& b, const Constraint& c, const Context& ctx) {
   const double tol = param(c, "tolerance", 0.003), inset = param(c, "inset", 0.0);
   using shapes::Cylinder, shapes::Torus;
-  if (a.is<Torus>() && b.is<Cylinder>()) return handle_on_body(a.as<Torus>(), b.as<Cylinder>(), tol, inset);
-  if (a.is<Cylinder>() && b.is<Torus>()) return handle_on_body(b.as<Torus>(), a.as<Cylinder>(), tol, inset);
+  if (a.is<Torus>() && b.is<Cylinder>()) return handle_on_body(a.as<Torus>(), b.as<Cylinder>(), tol, inset, ctx);
+  if (a.is<Cylinder>() && b.is<Torus>()) return handle_on_body(b.as<Torus>(), a.as<Cylinder>(), tol, inset, ctx);
   return ramp(b.extent() - a.surface_distance(b.origin()), tol);
 }
 
@@ -405,7 +418,7 @@ CompiledConstraint compile(const Constraint& c) {
   const std::string& p = c.predicate;
   if (p == "near") f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return near(a, b, k); };
   else if (p == "intersects")
-    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) { return intersects(a, b, k); };
+    f = [](const Segment& a, const Segment& b, const Constraint& k, const Context& x) { return intersects(a, b, k, x); };
   else if (p == "parallel")
     f = [](const Segment& a, const Segment& b, const Constraint& k, const Context&) {
       return has_axis(a) && has_axis(b) ? parallel(a, b, k) : 0.0;

@@ -8,7 +8,9 @@
 //  - intersects(a, b; tolerance = 0.003 m, inset = 0 m): for a torus and a cylinder the
 //    handle-on-body function of Kasprzak et al.: the ring's inner edge (d - R_t, d = distance of
 //    the torus centre to the body axis) lies inside the body radius and its outer edge outside
-//    it, and the torus centre lies within the body's height, `inset` or more from either end;
+//    it, and the torus centre lies within the body's height, `inset` or more from either end
+//    (an upright body's lower end at the support when it is seen 25 mm or more above it: its
+//    foot hidden);
 //    each condition a ramp of width 2*tolerance.
 //    Other pairs: a's surface distance to b's centre is within b's extent;
 //  - parallel / perpendicular(a, b; tolerance_deg = 10): angle between their axes (cylinder and

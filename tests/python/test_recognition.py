@@ -481,8 +481,9 @@ def test_a_ring_hugging_a_bodys_wall_is_no_handle():
 def test_a_mug_whose_wall_bends_on_stereo_depth_is_still_a_mug():
     """Rendered stereo frames 3654, 3790, 3888, 4462 and 8018 (tuning seeds of issue 18): the mug's
     body, its radius within 4 mm, had a bend of 4.8-6.5 / m (the stereo depth's ripple), past the
-    2 / m that keeps a banana from being a can or jar, and the mug was missed. Vessels with a handle accept up to 6 / m (the handle tells them from a
-    banana); those without keep 2 / m, so nothing is accepted on these frames' bananas either."""
+    2 / m that keeps a banana from being a can or jar, and the mug was missed. Vessels with a
+    handle accept up to 6 / m (the handle tells them from a banana); those without keep 2 / m, so
+    nothing is accepted on these frames' bananas either."""
     _, e = _rendered_freeform((3654, 3790, 3888, 4462, 8018), depth_model="stereo")
     bent = {3654: 9, 3790: 4, 3888: 6, 4462: 5, 8018: 4}  # (the frames' other mugs are not this test's)
     missed = [m for m in e.mistakes for s, i in bent.items() if m.startswith(f"synthetic:{s}#") and f"the mug {i} is missed" in m]

@@ -45,6 +45,11 @@ double distance_to_line(const Eigen::Vector3d& p, const Eigen::Vector3d& point, 
 
 double param(const Constraint& c, const char* name, double fallback) { return c.param(name, fallback); }
 
+/// A point's height above the support surface (ctx.support_d finite).
+double height_above_support(const Eigen::Vector3d& p, const Context& ctx) {
+  return ctx.up.normalized().dot(p) + ctx.support_d;
+}
+
 double near(const Segment& a, const Segment& b, const Constraint& c) {
   const double gap = std::max(a.surface_distance(b.origin()) - b.extent(), b.surface_distance(a.origin()) - a.extent());
   return falling(gap, 0.0, param(c, "max", 0.01));
@@ -61,17 +66,17 @@ double handle_on_body(const shapes::Torus& torus, const shapes::Cylinder& body, 
   constexpr double kUprightCos = 0.9;    // within ~25 degrees of up
   constexpr double kFootHidden = 0.025;  // metres; seen feet lie within ~1 cm of the support
   Eigen::Vector3d axis = body.axis.normalized();
-  const double up_share = axis.dot(ctx.up.normalized());
-  if (up_share < 0) axis = -axis;
+  double up_share = axis.dot(ctx.up.normalized());  // oriented upwards below
+  if (up_share < 0) axis = -axis, up_share = -up_share;
   const Eigen::Vector3d q = torus.center - body.point;
   const double along = axis.dot(q);
   const double d = (q - axis * along).norm();
   const double inner_inside = ramp(body.radius - (d - torus.major_radius), tol);  // d - R < r_body
   const double outer_outside = ramp((d + torus.major_radius) - body.radius, tol);  // d + R > r_body
   double lower = -body.height / 2;
-  if (std::isfinite(ctx.support_d) && std::abs(up_share) >= kUprightCos) {
-    const double centre_up = ctx.up.normalized().dot(body.point) + ctx.support_d;  // centre's height
-    if (centre_up - std::abs(up_share) * body.height / 2 >= kFootHidden) lower = -centre_up / std::abs(up_share);
+  if (std::isfinite(ctx.support_d) && up_share >= kUprightCos) {
+    const double centre_up = height_above_support(body.point, ctx);
+    if (centre_up - up_share * body.height / 2 >= kFootHidden) lower = -centre_up / up_share;
   }
   const double within_height = std::min(ramp(along - lower - inset, tol), ramp(body.height / 2 - inset - along, tol));
   return std::min({inner_inside, outer_outside, within_height});
@@ -367,14 +372,14 @@ double attribute_value(const Segment& s, const std::string& name, const Context&
     if (!std::isfinite(ctx.support_d)) return INFINITY;  // nothing to rest on: nothing to pass through
     const Eigen::Vector3d up = ctx.up.normalized();
     const double c = std::min(1.0, std::abs(axis->normalized().dot(up)));
-    return up.dot(s.origin()) + ctx.support_d - 0.5 * *h * c - *r * std::sqrt(1 - c * c);
+    return height_above_support(s.origin(), ctx) - 0.5 * *h * c - *r * std::sqrt(1 - c * c);
   }
   if (name == "top" || name == "bottom") {
     // the highest / lowest point of the part above the support (a seat's height above the floor,
     // a door's lower edge), from its extent along up; NaN without a support
     if (!std::isfinite(ctx.support_d)) return NAN;
     const Eigen::Vector3d up = ctx.up.normalized();
-    const double centre = up.dot(s.origin()) + ctx.support_d, half = s.half_extent_along(up);
+    const double centre = height_above_support(s.origin(), ctx), half = s.half_extent_along(up);
     return name == "top" ? centre + half : centre - half;
   }
   if (name == "span_up") return 2 * s.half_extent_along(ctx.up.normalized());
